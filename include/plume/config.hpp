@@ -1,0 +1,81 @@
+// plume/config.hpp - facts of this build, derived from the definitions and flags that the
+// plume::config CMake target passes to every translation unit that uses plume.
+//
+//   PLUME_HAS_SSE2 / PLUME_HAS_AVX2 / PLUME_HAS_AVX512   1 when that width family is enabled
+//   PLUME_SIMD_NAME                                     "scalar", "sse2", "avx2", "avx512",
+//   "native" PLUME_DETERMINISTIC                                 1: results are identical across
+//   builds PLUME_FMA                                           1: mul_add is fused (implies
+//   !DETERMINISTIC)
+#pragma once
+
+#if defined(__FAST_MATH__)
+#error                                                                                             \
+    "plume must not be compiled with -ffast-math: it breaks the determinism contract and the termination of iterative algorithms"
+#endif
+
+#ifndef PLUME_DETERMINISTIC
+#define PLUME_DETERMINISTIC 1
+#endif
+#ifndef PLUME_FMA
+#define PLUME_FMA 0
+#endif
+#if PLUME_FMA && PLUME_DETERMINISTIC
+#error "PLUME_FMA=1 gives up build-exactness: it needs PLUME_DETERMINISTIC=0"
+#endif
+#if PLUME_FMA && !defined(__FMA__)
+#error "PLUME_FMA=1 needs a build with FMA instructions (-mfma, avx512 or native)"
+#endif
+
+#if defined(PLUME_SIMD_SCALAR)
+#define PLUME_SIMD_NAME "scalar"
+#define PLUME_HAS_SSE2 0
+#define PLUME_HAS_AVX2 0
+#define PLUME_HAS_AVX512 0
+#else
+#if defined(PLUME_SIMD_SSE2)
+#define PLUME_SIMD_NAME "sse2"
+#elif defined(PLUME_SIMD_AVX2)
+#define PLUME_SIMD_NAME "avx2"
+#elif defined(PLUME_SIMD_AVX512)
+#define PLUME_SIMD_NAME "avx512"
+#else
+#define PLUME_SIMD_NAME "native"
+#endif
+#if defined(__SSE2__)
+#define PLUME_HAS_SSE2 1
+#else
+#define PLUME_HAS_SSE2 0
+#endif
+#if defined(__AVX2__)
+#define PLUME_HAS_AVX2 1
+#else
+#define PLUME_HAS_AVX2 0
+#endif
+#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512DQ__) && defined(__AVX512CD__)
+#define PLUME_HAS_AVX512 1
+#else
+#define PLUME_HAS_AVX512 0
+#endif
+#endif
+
+#if defined(PLUME_SIMD_AVX2) && !PLUME_HAS_AVX2
+#error "PLUME_SIMD=avx2 but the compiler flags do not enable AVX2"
+#endif
+#if defined(PLUME_SIMD_AVX512) && !PLUME_HAS_AVX512
+#error "PLUME_SIMD=avx512 but the compiler flags do not enable AVX-512 F/CD/DQ/BW"
+#endif
+
+#if defined(__GNUC__)
+#define PLUME_INLINE inline __attribute__((always_inline))
+#define PLUME_NOINLINE __attribute__((noinline))
+#else
+#define PLUME_INLINE inline
+#define PLUME_NOINLINE
+#endif
+
+namespace plume {
+/// The instruction-set family this build was configured for.
+inline constexpr const char* simd_name = PLUME_SIMD_NAME;
+inline constexpr bool deterministic = PLUME_DETERMINISTIC != 0;
+inline constexpr bool fused_mul_add = PLUME_FMA != 0;
+} // namespace plume

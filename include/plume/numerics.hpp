@@ -1,0 +1,17 @@
+// plume/numerics.hpp - the numerics module: element types, concepts, masks, constants,
+// per-element functions, transcendental functions and reductions.
+#pragma once
+
+#include <plume/config.hpp>
+#include <plume/numerics/approx.hpp>
+#include <plume/numerics/bits.hpp>
+#include <plume/numerics/concepts.hpp>
+#include <plume/numerics/constants.hpp>
+#include <plume/numerics/exp_log.hpp>
+#include <plume/numerics/functions.hpp>
+#include <plume/numerics/mask.hpp>
+#include <plume/numerics/memory.hpp>
+#include <plume/numerics/reduce.hpp>
+#include <plume/numerics/traits.hpp>
+#include <plume/numerics/trig.hpp>
+#include <plume/numerics/wide.hpp>

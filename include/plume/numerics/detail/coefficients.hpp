@@ -1,0 +1,164 @@
+// plume/numerics/detail/coefficients.hpp - polynomial coefficients and split constants of
+// plume's transcendental functions. Internal: use plume/numerics/trig.hpp and exp_log.hpp.
+//
+// Polynomials are listed highest degree first (Horner order). Except the sin/cos sets
+// (cephes' minimax sets, long public), each was fitted by tools/fit_coefficients.py
+// (weighted Remez, relative error); split constants come from tools/gen_constants.py.
+// The error noted beside a set is the relative error of the exact-coefficient fit; each
+// was chosen so that its share of the function's final error stays under ~0.1 ulp.
+#pragma once
+
+#include <cstdint>
+
+namespace plume::detail {
+
+template <class S>
+struct math_constants;
+
+template <>
+struct math_constants<float> {
+  // sin(r) = r + r z S(z), cos(r) = 1 - z/2 + z^2 C(z), z = r^2, |r| <= pi/4 (cephes sinf/cosf)
+  static constexpr float sin_poly[] = {-1.9515295891E-4f, 8.3321608736E-3f, -1.6666654611E-1f};
+  static constexpr float cos_poly[] = {2.443315711809948E-5f, -1.388731625493765E-3f,
+                                       4.166664568298827E-2f};
+  // Cody-Waite pi/2 = sum of parts; q * part exact for |q| < 2^13; fast path |x| <= 8000
+  static constexpr float pio2_parts[] = {1.57031250000f, 4.83751296997e-4f, 7.54953362048e-8f,
+                                         2.56328291925e-12f, 6.12323426293e-17f};
+  static constexpr float trig_fast_limit = 8000.0f;
+  static constexpr float round_magic =
+      12582912.0f; // 1.5 * 2^23: (v + m) - m rounds |v| < 2^22 to even
+  static constexpr std::uint64_t magic_bits = 0x4B400000u;
+  static constexpr std::uint64_t two_p_bits = 0x4B000000u; // bits of 2^23
+  static constexpr float two_p = 8388608.0f;
+  static constexpr int mant_bits = 23;
+  static constexpr int exp_bias = 127;
+  static constexpr std::uint64_t hi_half_mask = 0xFFFFF000u; // keeps 12 significant bits
+  static constexpr float split_factor = 4097.0f;             // 2^12 + 1 (Dekker)
+  static constexpr float pio2_hi = 1.57079637051f, pio2_lo = -4.37113882867e-8f;
+  static constexpr float pio4_hi = 7.85398185253e-1f, pio4_lo = -2.18556941434e-8f;
+  static constexpr float pi_hi = 3.14159274101f, pi_lo = -8.74227765735e-8f;
+  static constexpr float tan_3pi_8 = 2.41421356237f, tan_pi_8 = 0.414213562373f;
+  static constexpr float ln2_hi = 6.93145751953e-1f,
+                         ln2_lo = 1.42860676533e-6f; // n*hi exact, |n| < 2^8
+  static constexpr float log2e = 1.44269502163f, log2e_lo = 1.92596303350e-8f;
+  static constexpr float ivln2_hi = 1.44287109375f, ivln2_lo = -1.76052853931e-4f; // 12-bit hi
+  static constexpr float two_thirds_hi = 6.66666686535e-1f, two_thirds_lo = -1.98682155172e-8f;
+  static constexpr float sqrt2 = 1.41421353816986083984375f;
+  static constexpr float exp_clamp_lo = -110.0f, exp_clamp_hi = 100.0f; // beyond: 0 / inf
+  static constexpr float exp2_clamp_lo = -160.0f, exp2_clamp_hi = 140.0f;
+  static constexpr float expm1_clamp_lo = -30.0f;       // below: -1
+  static constexpr float subnormal_scale = 16777216.0f; // 2^24
+  static constexpr float subnormal_scale_log2 = 24.0f;
+  // tan(r) = r + r z T(z), z = r^2 <= (pi/4)^2; fit: relative error 1.94e-8 (2^-25.62)
+  static constexpr float tan_poly[] = {3.843601865e-03f, 1.184472096e-03f, 9.962731904e-03f,
+                                       2.162094216e-02f, 5.399449117e-02f, 1.333323081e-01f,
+                                       3.333333398e-01f};
+  // asin(s) = s + s z P(z), z = s^2 <= 1/4; fit: relative error 2.09e-8 (2^-25.51)
+  static constexpr float asin_poly[] = {3.379971946e-02f, 1.708165018e-02f, 3.111532090e-02f,
+                                        4.459810756e-02f, 7.500098524e-02f, 1.666666632e-01f};
+  // atan(t) = t + t z P(z), z = t^2 <= tan(pi/8)^2; fit: relative error 1.59e-9 (2^-29.23)
+  static constexpr float atan_poly[] = {5.051923183e-02f,  -8.626306881e-02f, 1.107161127e-01f,
+                                        -1.428416640e-01f, 1.999997759e-01f,  -3.333333328e-01f};
+  // exp(r) = 1 + r + r^2 P(r), |r| <= ln2/2; fit: relative error 2.68e-9 (2^-28.47)
+  static constexpr float exp_poly[] = {1.985779958e-04f, 1.393359758e-03f, 8.333360714e-03f,
+                                       4.166646553e-02f, 1.666666653e-01f, 5.000000013e-01f};
+  // 2^r = 1 + r P(r), |r| <= 1/2; fit: relative error 2.32e-10 (2^-32.0)
+  static constexpr float exp2_poly[] = {1.525271968e-05f, 1.546132989e-04f, 1.333366945e-03f,
+                                        9.618057037e-03f, 5.550410728e-02f, 2.402265092e-01f,
+                                        6.931471806e-01f};
+  // log(1+f) = 2s + s z Q(z), s = f/(2+f), z = s^2 <= 0.0295; fit: relative error 2.76e-7
+  // (2^-21.79)
+  static constexpr float log_poly[] = {2.958051168e-01f, 3.998876405e-01f, 6.666668510e-01f};
+  // pow: log(1+f) = 2s + s^3 (2/3 + z Q2(z)), 2/3 in double-word; fit: relative error 2.38e-9
+  // (2^-28.65)
+  static constexpr float logpow_poly[] = {1.912063464e-01f, 2.220475345e-01f, 2.857153193e-01f,
+                                          3.999999990e-01f};
+};
+
+template <>
+struct math_constants<double> {
+  // sin(r) = r + r z S(z), cos(r) = 1 - z/2 + z^2 C(z), z = r^2, |r| <= pi/4 (cephes sin/cos)
+  static constexpr double sin_poly[] = {1.58962301576546568060E-10, -2.50507477628578072866E-8,
+                                        2.75573136213857245213E-6,  -1.98412698295895385996E-4,
+                                        8.33333333332211858878E-3,  -1.66666666666666307295E-1};
+  static constexpr double cos_poly[] = {-1.13585365213876817300E-11, 2.08757008419747316778E-9,
+                                        -2.75573141792967388112E-7,  2.48015872888517045348E-5,
+                                        -1.38888888888730564116E-3,  4.16666666666665929218E-2};
+  // Cody-Waite pi/2 = sum of parts; q * part exact for |q| < 2^27; fast path |x| <= 1e8
+  static constexpr double pio2_parts[] = {0x1.921fb58000000p+0, -0x1.dde9740000000p-27,
+                                          0x1.1a62630000000p-54, 0x1.8a2e038000000p-81,
+                                          -0x1.f1976b7ed8fbcp-110};
+  static constexpr double trig_fast_limit = 1e8;
+  static constexpr double round_magic = 6755399441055744.0; // 1.5 * 2^52
+  static constexpr std::uint64_t magic_bits = 0x4338000000000000ull;
+  static constexpr std::uint64_t two_p_bits = 0x4330000000000000ull; // bits of 2^52
+  static constexpr double two_p = 4503599627370496.0;
+  static constexpr int mant_bits = 52;
+  static constexpr int exp_bias = 1023;
+  static constexpr std::uint64_t hi_half_mask = 0xFFFFFFFF00000000ull; // keeps 21 significant bits
+  static constexpr double split_factor = 134217729.0;                  // 2^27 + 1 (Dekker)
+  static constexpr double pio2_hi = 0x1.921fb54442d18p+0, pio2_lo = 0x1.1a62633145c07p-54;
+  static constexpr double pio4_hi = 0x1.921fb54442d18p-1, pio4_lo = 0x1.1a62633145c07p-55;
+  static constexpr double pi_hi = 0x1.921fb54442d18p+1, pi_lo = 0x1.1a62633145c07p-53;
+  static constexpr double tan_3pi_8 = 2.41421356237309504880, tan_pi_8 = 0.41421356237309504880;
+  static constexpr double ln2_hi = 0x1.62e42fefa3800p-1,
+                          ln2_lo = 0x1.ef35793c76730p-45; // n*hi exact, |n| < 2^11
+  static constexpr double log2e = 0x1.71547652b82fep+0, log2e_lo = 0x1.777d0ffda0d24p-56;
+  static constexpr double ivln2_hi = 0x1.7154700000000p+0,
+                          ivln2_lo = 0x1.94ae0bf85ddf4p-22; // 21-bit hi
+  static constexpr double two_thirds_hi = 0x1.5555555555555p-1,
+                          two_thirds_lo = 0x1.5555555555555p-55;
+  static constexpr double sqrt2 = 1.4142135623730951454746218587388;
+  static constexpr double exp_clamp_lo = -760.0, exp_clamp_hi = 720.0;
+  static constexpr double exp2_clamp_lo = -1100.0, exp2_clamp_hi = 1040.0;
+  static constexpr double expm1_clamp_lo = -50.0;
+  static constexpr double subnormal_scale = 18014398509481984.0; // 2^54
+  static constexpr double subnormal_scale_log2 = 54.0;
+  // tan(r) = r + r z T(z), z = r^2 <= (pi/4)^2; fit: relative error 9.84e-19 (2^-59.82)
+  static constexpr double tan_poly[] = {
+      3.95006770388356456e-06,  -9.74742154162752028e-06, 1.95414337576863933e-05,
+      -1.02029009162134791e-05, 2.71131866092345035e-05,  3.39262938854915786e-05,
+      9.87698057525249120e-05,  2.38661289352648650e-04,  5.90112797185737619e-04,
+      1.45582332440429463e-03,  3.59212902344727266e-03,  8.86323547229556606e-03,
+      2.18694885381831919e-02,  5.39682539682165632e-02,  1.33333333333333609e-01,
+      3.33333333333333315e-01};
+  // asin(s) = s + s z P(z), z = s^2 <= 1/4; fit: relative error 4.84e-18 (2^-57.52)
+  static constexpr double asin_poly[] = {
+      2.97437058627213549e-02, -1.94550993885154802e-02, 1.97074667512490143e-02,
+      2.98107544008920739e-03, 9.33672106532177325e-03,  9.61872922376068827e-03,
+      1.15668472027354724e-02, 1.39637470163225669e-02,  1.73528184209951024e-02,
+      2.23721573747623879e-02, 3.03819444770264090e-02,  4.46428571425350404e-02,
+      7.50000000000012462e-02, 1.66666666666666657e-01};
+  // atan(t) = t + t z P(z), z = t^2 <= tan(pi/8)^2; fit: relative error 9.29e-17 (2^-53.26)
+  static constexpr double atan_poly[] = {
+      -1.91945036017889016e-02, 3.92468058220015736e-02,  -5.08600343638232061e-02,
+      5.85826100363831329e-02,  -6.66452516534213335e-02, 7.69218423036370225e-02,
+      -9.09090462610840783e-02, 1.11111110165294874e-01,  -1.42857142846837121e-01,
+      1.99999999999956102e-01,  -3.33333333333333315e-01};
+  // exp(r) = 1 + r + r^2 P(r), |r| <= ln2/2; fit: relative error 2.71e-18 (2^-58.35)
+  static constexpr double exp_poly[] = {
+      2.08893733412605747e-09, 2.51051735977179985e-08, 2.75573496208480485e-07,
+      2.75572555143003458e-06, 2.48015872457415215e-05, 1.98412698747207499e-04,
+      1.38888888889179569e-03, 8.33333333332616708e-03, 4.16666666666666158e-02,
+      1.66666666666666713e-01, 5.00000000000000000e-01};
+  // 2^r = 1 + r P(r), |r| <= 1/2; fit: relative error 2.35e-19 (2^-61.88)
+  static constexpr double exp2_poly[] = {
+      2.56784278807954536e-11, 4.45580485290219436e-10, 7.05493227225549875e-09,
+      1.01780571692962057e-07, 1.32154867213575325e-06, 1.52527338413784526e-05,
+      1.54035303934661684e-04, 1.33335581464066291e-03, 9.61812910762843698e-03,
+      5.55041086648216248e-02, 2.40226506959100722e-01, 6.93147180559945286e-01};
+  // log(1+f) = 2s + s z Q(z), s = f/(2+f), z = s^2 <= 0.0295; fit: relative error 4.55e-16
+  // (2^-50.97)
+  static constexpr double log_poly[] = {1.46168757273662353e-01, 1.53316840024377898e-01,
+                                        1.81828903693279836e-01, 2.22222111158262681e-01,
+                                        2.85714286261061767e-01, 3.99999999998991773e-01,
+                                        6.66666666666666963e-01};
+  // pow: log(1+f) = 2s + s^3 (2/3 + z Q2(z)), 2/3 in double-word; fit: relative error 4.58e-18
+  // (2^-57.6)
+  static constexpr double logpow_poly[] = {1.17232880167178130e-01, 1.17062241405726880e-01,
+                                           1.33348052250659321e-01, 1.53845949511077218e-01,
+                                           1.81818183355180379e-01, 2.22222222216552329e-01,
+                                           2.85714285714293692e-01, 4.00000000000000022e-01};
+};
+
+} // namespace plume::detail

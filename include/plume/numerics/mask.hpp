@@ -1,0 +1,100 @@
+// plume/numerics/mask.hpp - masks and per-lane selection.
+//
+// A mask is `bool` for scalars and xsimd::batch_bool for batches; comparisons of element
+// types give masks (`a < b`, also `1.f < batch`). Masks combine with & | ^ and !. (For
+// scalars `m1 & m2` is an int; every function here takes it as a bool.)
+//
+//   select(m, a, b)   per lane: m ? a : b    (a or b may be a scalar_t<T> for a batch T)
+//   any(m), all(m), none(m)                   horizontal tests
+//   bitmask(m)        lane i of m in bit i of a uint64_t
+//   mask_cast<T>(m)   a mask of another element type with the same lanes and lane width
+//                     (an int32 comparison used to select floats)
+#pragma once
+
+#include <plume/numerics/traits.hpp>
+
+#include <bit>
+#include <cstdint>
+#include <type_traits>
+
+namespace plume {
+
+PLUME_INLINE constexpr bool any(bool m) noexcept { return m; }
+PLUME_INLINE constexpr bool all(bool m) noexcept { return m; }
+PLUME_INLINE constexpr bool none(bool m) noexcept { return !m; }
+PLUME_INLINE constexpr std::uint64_t bitmask(bool m) noexcept { return m ? 1u : 0u; }
+
+template <class T>
+requires(is_element_v<T> && !is_batch_v<T>) PLUME_INLINE constexpr T
+    select(bool m, T a, T b) noexcept {
+  return m ? a : b;
+}
+
+template <class T>
+requires(is_element_v<T> && !is_batch_v<T>) PLUME_INLINE constexpr bool mask_cast(bool m) noexcept {
+  return m;
+}
+
+#if PLUME_HAS_BATCHES
+template <class E, class A>
+PLUME_INLINE bool any(xsimd::batch_bool<E, A> const& m) noexcept {
+  return xsimd::any(m);
+}
+template <class E, class A>
+PLUME_INLINE bool all(xsimd::batch_bool<E, A> const& m) noexcept {
+  return xsimd::all(m);
+}
+template <class E, class A>
+PLUME_INLINE bool none(xsimd::batch_bool<E, A> const& m) noexcept {
+  return !xsimd::any(m);
+}
+template <class E, class A>
+PLUME_INLINE std::uint64_t bitmask(xsimd::batch_bool<E, A> const& m) noexcept {
+  constexpr std::size_t n = xsimd::batch_bool<E, A>::size;
+  bool b[n];
+  m.store_unaligned(b);
+  std::uint64_t r = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    r |= std::uint64_t(b[i]) << i;
+  return r;
+}
+
+template <class E, class A>
+PLUME_INLINE xsimd::batch<E, A> select(xsimd::batch_bool<E, A> const& m,
+                                       xsimd::batch<E, A> const& a,
+                                       xsimd::batch<E, A> const& b) noexcept {
+  return xsimd::select(m, a, b);
+}
+template <class E, class A>
+PLUME_INLINE xsimd::batch<E, A> select(xsimd::batch_bool<E, A> const& m,
+                                       xsimd::batch<E, A> const& a,
+                                       std::type_identity_t<E> b) noexcept {
+  return xsimd::select(m, a, xsimd::batch<E, A>(b));
+}
+template <class E, class A>
+PLUME_INLINE xsimd::batch<E, A> select(xsimd::batch_bool<E, A> const& m, std::type_identity_t<E> a,
+                                       xsimd::batch<E, A> const& b) noexcept {
+  return xsimd::select(m, xsimd::batch<E, A>(a), b);
+}
+template <class E, class A>
+PLUME_INLINE xsimd::batch_bool<E, A> select(xsimd::batch_bool<E, A> const& m,
+                                            xsimd::batch_bool<E, A> const& a,
+                                            xsimd::batch_bool<E, A> const& b) noexcept {
+  return (m & a) | (!m & b);
+}
+
+/// The mask m (of any element type of T's lanes and lane width) as a mask of T.
+template <class T, class E, class A>
+requires is_batch_v<T> PLUME_INLINE mask_t<T> mask_cast(xsimd::batch_bool<E, A> const& m)
+noexcept {
+  static_assert(sizeof(E) == sizeof(scalar_t<T>) && lanes_v<T> == xsimd::batch_bool<E, A>::size,
+                "mask_cast needs the same lanes and lane width");
+  using R = typename mask_t<T>::register_type;
+  using RE = typename xsimd::batch_bool<E, A>::register_type;
+  // AVX-512 masks are the same k-register type for every element; SSE/AVX masks are all-ones
+  // lanes in an __m128/__m128i/... register of the same size: a reinterpretation either way.
+  return mask_t<T>(std::bit_cast<R>(static_cast<RE>(m)));
+}
+#endif
+
+} // namespace plume

@@ -1,0 +1,223 @@
+// plume/numerics/trig.hpp - trigonometric functions for every Real element type.
+//
+//   sin cos tan, sincos (both at once), asin acos atan, atan2(y, x)     radians
+//
+// Written once over T and evaluated branch-free per lane: Cody-Waite reduction by pi/2 with
+// a five-part constant (|x| <= 8000 for float, 1e8 for double), then minimax polynomials on
+// [-pi/4, pi/4]. Lanes beyond that range take an exact Payne-Hanek reduction, computed lane
+// by lane by the same scalar routine in every width: the value of each lane never depends
+// on its neighbours. Accuracy (tests/numerics, printed by the accuracy test): every function
+// within 2 ulp of the exact result over its whole domain for float and double, most within 1.
+//
+// Special values (C99 Annex F): sin/tan/asin/atan keep the sign of zero; sin, cos, tan of
+// +-inf are NaN; asin/acos outside [-1, 1] are NaN; atan(+-inf) = +-pi/2; atan2 follows
+// Annex F for zeros and infinities (atan2(+-0, -0) = +-pi, atan2(+-inf, -inf) = +-3pi/4, ...);
+// NaN in, NaN out. No function loops, traps or reads other lanes.
+#pragma once
+
+#include <plume/numerics/detail/coefficients.hpp>
+#include <plume/numerics/detail/payne_hanek.hpp>
+#include <plume/numerics/detail/poly.hpp>
+#include <plume/numerics/functions.hpp>
+
+namespace plume {
+namespace detail {
+
+/// x = q * pi/2 + (hi + lo), q mod 4 as a float value in {0, 1, 2, 3}.
+template <Float T>
+struct quadrant_reduction {
+  T hi, lo, q;
+};
+
+template <Float T>
+PLUME_INLINE quadrant_reduction<T> reduce_half_pi(T x) noexcept {
+  using S = scalar_t<T>;
+  using C = math_constants<S>;
+  T const rm = splat<T>(C::round_magic);
+  // t = x*2/pi + 1.5*2^m rounds to an integer whose low bits hold q mod 4.
+  T const t = x * splat<T>(S(0.63661977236758134308)) + rm;
+  T const q = t - rm;
+  T const qm =
+      bit_or(bit_and(t, bit_pattern<T>(3)), bit_pattern<T>(C::two_p_bits)) - splat<T>(C::two_p);
+  T r = x - q * splat<T>(C::pio2_parts[0]);
+  r = r - q * splat<T>(C::pio2_parts[1]);
+  r = r - q * splat<T>(C::pio2_parts[2]);
+  r = r - q * splat<T>(C::pio2_parts[3]);
+  T const qe = q * splat<T>(C::pio2_parts[4]);
+  T hi = r - qe;
+  T lo = (r - hi) - qe;
+  T qq = qm;
+  auto const huge = (plume::abs(x) > splat<T>(C::trig_fast_limit)) & plume::is_finite(x);
+  if (plume::any(huge)) [[unlikely]] {
+    // Only the lanes that need it; the others keep the values computed above.
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      if constexpr (is_batch_v<T>) {
+        if (!lane(huge, i)) continue;
+      }
+      huge_reduction const h = reduce_half_pi_huge(static_cast<double>(lane(x, i)));
+      S const h_hi = static_cast<S>(h.hi);
+      S const h_lo = static_cast<S>((h.hi - static_cast<double>(h_hi)) + h.lo);
+      if constexpr (is_batch_v<T>) {
+        hi = with_lane(hi, i, h_hi);
+        lo = with_lane(lo, i, h_lo);
+        qq = with_lane(qq, i, static_cast<S>(h.quadrant));
+      } else {
+        hi = h_hi;
+        lo = h_lo;
+        qq = static_cast<S>(h.quadrant);
+      }
+    }
+  }
+  return {hi, lo, qq};
+}
+
+/// sin(hi + lo) for |hi| <= pi/4 + tiny, |lo| <= ulp(hi).
+template <Float T>
+PLUME_INLINE T sin_kernel(T hi, T lo, T z) noexcept {
+  using C = math_constants<scalar_t<T>>;
+  T const tail = hi * z * detail::horner(z, C::sin_poly);
+  return hi + (tail + lo);
+}
+
+/// cos(hi + lo); compensated 1 - z/2 so that the result is within ~0.5 ulp.
+template <Float T>
+PLUME_INLINE T cos_kernel(T hi, T lo, T z) noexcept {
+  using C = math_constants<scalar_t<T>>;
+  T const hz = half<T>() * z;
+  T const w = one<T>() - hz;
+  return w + (((one<T>() - w) - hz) + (z * z * detail::horner(z, C::cos_poly) - hi * lo));
+}
+
+template <Float T>
+PLUME_INLINE T negate_if(mask_t<T> m, T x) noexcept {
+  return plume::select(m, -x, x);
+}
+
+/// atan(a) for a >= 0 (or NaN), as the sum of the returned value; branch-free 3-range reduction.
+template <Float T>
+PLUME_INLINE T atan_nonneg(T a) noexcept {
+  using C = math_constants<scalar_t<T>>;
+  auto const big = a > splat<T>(C::tan_3pi_8);
+  auto const mid = a > splat<T>(C::tan_pi_8);
+  T const t =
+      plume::select(big, -plume::recip(a), plume::select(mid, (a - one<T>()) / (a + one<T>()), a));
+  T const y_hi =
+      plume::select(big, splat<T>(C::pio2_hi), plume::select(mid, splat<T>(C::pio4_hi), zero<T>()));
+  T const y_lo =
+      plume::select(big, splat<T>(C::pio2_lo), plume::select(mid, splat<T>(C::pio4_lo), zero<T>()));
+  T const z = t * t;
+  T const p = t * z * detail::horner(z, C::atan_poly);
+  return y_hi + (t + (p + y_lo));
+}
+
+} // namespace detail
+
+/// sin(x) and cos(x) together, for the cost of about one of them.
+template <Float T>
+struct sin_cos_result {
+  T sin;
+  T cos;
+};
+
+template <Float T>
+PLUME_INLINE sin_cos_result<T> sincos(T x) noexcept {
+  auto const red = detail::reduce_half_pi(x);
+  T const z = red.hi * red.hi;
+  T const s = detail::sin_kernel(red.hi, red.lo, z);
+  T const c = detail::cos_kernel(red.hi, red.lo, z);
+  auto const odd = (red.q == one<T>()) | (red.q == splat<T>(3));
+  T sn = detail::negate_if(red.q >= two<T>(), plume::select(odd, c, s));
+  sn = plume::select(x == zero<T>(), x, sn); // sin(-0) = -0
+  T const cs =
+      detail::negate_if((red.q == one<T>()) | (red.q == two<T>()), plume::select(odd, s, c));
+  return {sn, cs};
+}
+
+template <Float T>
+PLUME_INLINE T sin(T x) noexcept {
+  return plume::sincos(x).sin;
+}
+
+template <Float T>
+PLUME_INLINE T cos(T x) noexcept {
+  return plume::sincos(x).cos;
+}
+
+template <Float T>
+PLUME_INLINE T tan(T x) noexcept {
+  using C = detail::math_constants<scalar_t<T>>;
+  auto const red = detail::reduce_half_pi(x);
+  T const hi = red.hi;
+  T const z = hi * hi;
+  T const small = hi * z * detail::horner(z, C::tan_poly) + red.lo;
+  T const t = hi + small;
+  T const t_lo = small - (t - hi); // t + t_lo = plume::tan(hi + lo) to ~2^-2p
+  // Odd quadrants: -1/tan, with the low word folded in: -1/(t + e) = y + e y^2.
+  T const y = -plume::recip(t);
+  T const cot = y + t_lo * y * y;
+  auto const odd = (red.q == one<T>()) | (red.q == splat<T>(3));
+  return plume::select(x == zero<T>(), x, plume::select(odd, cot, t)); // tan(-0) = -0
+}
+
+template <Float T>
+PLUME_INLINE T asin(T x) noexcept {
+  using C = detail::math_constants<scalar_t<T>>;
+  T const a = plume::abs(x);
+  auto const big = a > half<T>();
+  T const z = plume::select(big, (one<T>() - a) * half<T>(), x * x);
+  T const R = z * detail::horner(z, C::asin_poly); // plume::asin(s) = s + s R(s^2)
+  // |x| <= 1/2
+  T const small_res = x + x * R;
+  // |x| > 1/2: asin|x| = pi/2 - 2 asin(s), s = sqrt(z), with s split as f + c exactly.
+  T const s = plume::sqrt(z);
+  T const f = detail::bit_and(s, detail::bit_pattern<T>(C::hi_half_mask));
+  T const c = (z - f * f) / (s + f);
+  T const pio4 = splat<T>(C::pio4_hi);
+  T const big_abs =
+      pio4 - ((two<T>() * s * R - (splat<T>(C::pio2_lo) - two<T>() * c)) - (pio4 - two<T>() * f));
+  return plume::select(big, plume::copysign(big_abs, x), small_res);
+}
+
+template <Float T>
+PLUME_INLINE T acos(T x) noexcept {
+  using C = detail::math_constants<scalar_t<T>>;
+  T const a = plume::abs(x);
+  auto const big = a > half<T>();
+  T const z = plume::select(big, (one<T>() - a) * half<T>(), x * x);
+  T const R = z * detail::horner(z, C::asin_poly);
+  T const pio2_hi = splat<T>(C::pio2_hi), pio2_lo = splat<T>(C::pio2_lo);
+  // |x| <= 1/2: pi/2 - asin(x)
+  T const small_res = pio2_hi - (x - (pio2_lo - x * R));
+  T const s = plume::sqrt(z);
+  // x < -1/2: pi - 2 asin(s)
+  T const neg_res = two<T>() * (pio2_hi - (s + (R * s - pio2_lo)));
+  // x > 1/2: 2 asin(s), s split as df + c exactly
+  T const df = detail::bit_and(s, detail::bit_pattern<T>(C::hi_half_mask));
+  T const c = (z - df * df) / (s + df);
+  T const pos_res = two<T>() * (df + (R * s + c));
+  return plume::select(big, plume::select(x < zero<T>(), neg_res, pos_res), small_res);
+}
+
+template <Float T>
+PLUME_INLINE T atan(T x) noexcept {
+  return plume::copysign(detail::atan_nonneg(plume::abs(x)), x);
+}
+
+template <Float T>
+PLUME_INLINE T atan2(T y, T x) noexcept {
+  using C = detail::math_constants<scalar_t<T>>;
+  T const ax = plume::abs(x), ay = plume::abs(y);
+  auto const steep = ay > ax;
+  T const num = plume::select(steep, ax, ay), den = plume::select(steep, ay, ax);
+  T r = num / den; // in [0, 1]; 0/0 and inf/inf patched:
+  r = plume::select((ax == zero<T>()) & (ay == zero<T>()), zero<T>(), r);
+  r = plume::select(plume::is_infinite(ax) & plume::is_infinite(ay), one<T>(), r);
+  T theta = detail::atan_nonneg(r);
+  theta = plume::select(steep, splat<T>(C::pio2_hi) - (theta - splat<T>(C::pio2_lo)), theta);
+  theta = plume::select(plume::is_sign_negative(x),
+                        splat<T>(C::pi_hi) - (theta - splat<T>(C::pi_lo)), theta);
+  theta = plume::select(plume::is_nan(x) | plume::is_nan(y), x + y, theta);
+  return plume::copysign(theta, y);
+}
+
+} // namespace plume

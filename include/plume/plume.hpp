@@ -1,0 +1,4 @@
+// plume/plume.hpp - everything plume has.
+#pragma once
+
+#include <plume/numerics.hpp>
