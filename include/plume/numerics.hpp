@@ -1,5 +1,10 @@
 // plume/numerics.hpp - the numerics module: element types, concepts, masks, constants,
 // per-element functions, transcendental functions and reductions.
+//
+// Call plume's functions qualified (plume::min, plume::select, plume::any): xsimd defines
+// functions of the same names, and for batch arguments an unqualified call finds those by
+// argument-dependent lookup, either ambiguously or, worse, silently (xsimd::min follows the
+// minps NaN rule, not plume's).
 #pragma once
 
 #include <plume/config.hpp>

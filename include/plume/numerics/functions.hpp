@@ -134,7 +134,7 @@ PLUME_INLINE T round_ties_even(T x) noexcept {
   if constexpr (is_batch_v<T>)
     return xsimd::nearbyint(x);
   else
-    return __builtin_nearbyint(x);
+    return std::nearbyint(x);
 #else
   return detail::round_ties_even_portable(x);
 #endif
@@ -146,7 +146,7 @@ PLUME_INLINE T trunc(T x) noexcept {
   if constexpr (is_batch_v<T>)
     return xsimd::trunc(x);
   else
-    return __builtin_trunc(x);
+    return std::trunc(x);
 #else
   T const a = plume::abs(x);
   T const r = detail::round_ties_even_portable(a);
@@ -161,7 +161,7 @@ PLUME_INLINE T floor(T x) noexcept {
   if constexpr (is_batch_v<T>)
     return xsimd::floor(x);
   else
-    return __builtin_floor(x);
+    return std::floor(x);
 #else
   T const t = plume::trunc(x);
   return t - plume::select(t > x, one<T>(), zero<T>());
@@ -174,7 +174,7 @@ PLUME_INLINE T ceil(T x) noexcept {
   if constexpr (is_batch_v<T>)
     return xsimd::ceil(x);
   else
-    return __builtin_ceil(x);
+    return std::ceil(x);
 #else
   return -plume::floor(-x);
 #endif

@@ -39,13 +39,21 @@ PLUME_INLINE quadrant_reduction<T> reduce_half_pi(T x) noexcept {
   T const q = t - rm;
   T const qm =
       bit_or(bit_and(t, bit_pattern<T>(3)), bit_pattern<T>(C::two_p_bits)) - splat<T>(C::two_p);
+  // The first two products and differences are exact (parts of 11/26 bits, Sterbenz); the
+  // rest are accumulated as hi + lo so that the reduced argument keeps ~2p bits even when
+  // it is not small.
   T r = x - q * splat<T>(C::pio2_parts[0]);
   r = r - q * splat<T>(C::pio2_parts[1]);
-  r = r - q * splat<T>(C::pio2_parts[2]);
-  r = r - q * splat<T>(C::pio2_parts[3]);
-  T const qe = q * splat<T>(C::pio2_parts[4]);
-  T hi = r - qe;
-  T lo = (r - hi) - qe;
+  T hi = r, lo = zero<T>();
+  for (int k = 2; k < 5; ++k) {
+    T const p = q * splat<T>(C::pio2_parts[k]);
+    T const s = hi - p;
+    lo = lo + ((hi - s) - p); // exact error of hi - p (|hi| >= |p|)
+    hi = s;
+  }
+  T const h2 = hi + lo;
+  lo = lo - (h2 - hi);
+  hi = h2;
   T qq = qm;
   auto const huge = (plume::abs(x) > splat<T>(C::trig_fast_limit)) & plume::is_finite(x);
   if (plume::any(huge)) [[unlikely]] {
@@ -93,21 +101,33 @@ PLUME_INLINE T negate_if(mask_t<T> m, T x) noexcept {
   return plume::select(m, -x, x);
 }
 
-/// atan(a) for a >= 0 (or NaN), as the sum of the returned value; branch-free 3-range reduction.
+/// atan(a + a_lo) for a >= 0 (or NaN), |a_lo| <= ulp(a); branch-free 3-range reduction with the
+/// reduced argument carried in double-word and a compensated final sum (<= ~1 ulp).
 template <Float T>
-PLUME_INLINE T atan_nonneg(T a) noexcept {
+PLUME_INLINE T atan_nonneg(T a, T a_lo) noexcept {
   using C = math_constants<scalar_t<T>>;
   auto const big = a > splat<T>(C::tan_3pi_8);
   auto const mid = a > splat<T>(C::tan_pi_8);
-  T const t =
-      plume::select(big, -plume::recip(a), plume::select(mid, (a - one<T>()) / (a + one<T>()), a));
-  T const y_hi =
-      plume::select(big, splat<T>(C::pio2_hi), plume::select(mid, splat<T>(C::pio4_hi), zero<T>()));
-  T const y_lo =
-      plume::select(big, splat<T>(C::pio2_lo), plume::select(mid, splat<T>(C::pio4_lo), zero<T>()));
+  // mid: t = (a - 1)/(a + 1); big: t = -1/a. Numerator and denominator exactly, as hi + lo.
+  dw<T> const num = two_sum(plume::select(big, -one<T>(), a), plume::select(big, zero<T>(), -one<T>()));
+  dw<T> const den = two_sum(a, plume::select(big, zero<T>(), one<T>()));
+  T const num_lo = plume::select(big, zero<T>(), num.lo + a_lo);
+  T const den_lo = den.lo + a_lo;
+  T const tq = num.hi / den.hi;
+  dw<T> const pr = two_prod(tq, den.hi);
+  // (big: -1/a needs no low word, and Dekker's split of a huge a would overflow)
+  T const tq_lo = plume::select(big, zero<T>(), (((num.hi - pr.hi) - pr.lo) + num_lo - tq * den_lo) / den.hi);
+  auto const reduce = big | mid;
+  T const t = plume::select(reduce, tq, a);
+  T const t_lo = plume::select(reduce, tq_lo, a_lo);
+  T const y_hi = plume::select(big, splat<T>(C::pio2_hi), plume::select(mid, splat<T>(C::pio4_hi), zero<T>()));
+  T const y_lo = plume::select(big, splat<T>(C::pio2_lo), plume::select(mid, splat<T>(C::pio4_lo), zero<T>()));
   T const z = t * t;
-  T const p = t * z * detail::horner(z, C::atan_poly);
-  return y_hi + (t + (p + y_lo));
+  // atan(t + t_lo) = t + t z P(z) + t_lo / (1 + z)
+  T const p = t * z * detail::horner(z, C::atan_poly) + t_lo * (one<T>() - z);
+  dw<T> const u = fast_two_sum(t, p + y_lo);
+  dw<T> const v = two_sum(y_hi, u.hi);
+  return v.hi + (v.lo + u.lo);
 }
 
 } // namespace detail
@@ -171,7 +191,7 @@ PLUME_INLINE T asin(T x) noexcept {
   // |x| > 1/2: asin|x| = pi/2 - 2 asin(s), s = sqrt(z), with s split as f + c exactly.
   T const s = plume::sqrt(z);
   T const f = detail::bit_and(s, detail::bit_pattern<T>(C::hi_half_mask));
-  T const c = (z - f * f) / (s + f);
+  T const c = plume::select(z == zero<T>(), zero<T>(), (z - f * f) / (s + f)); // |x| = 1: 0/0
   T const pio4 = splat<T>(C::pio4_hi);
   T const big_abs =
       pio4 - ((two<T>() * s * R - (splat<T>(C::pio2_lo) - two<T>() * c)) - (pio4 - two<T>() * f));
@@ -193,14 +213,14 @@ PLUME_INLINE T acos(T x) noexcept {
   T const neg_res = two<T>() * (pio2_hi - (s + (R * s - pio2_lo)));
   // x > 1/2: 2 asin(s), s split as df + c exactly
   T const df = detail::bit_and(s, detail::bit_pattern<T>(C::hi_half_mask));
-  T const c = (z - df * df) / (s + df);
+  T const c = plume::select(z == zero<T>(), zero<T>(), (z - df * df) / (s + df)); // x = 1: 0/0
   T const pos_res = two<T>() * (df + (R * s + c));
   return plume::select(big, plume::select(x < zero<T>(), neg_res, pos_res), small_res);
 }
 
 template <Float T>
 PLUME_INLINE T atan(T x) noexcept {
-  return plume::copysign(detail::atan_nonneg(plume::abs(x)), x);
+  return plume::copysign(detail::atan_nonneg(plume::abs(x), zero<T>()), x);
 }
 
 template <Float T>
@@ -209,10 +229,14 @@ PLUME_INLINE T atan2(T y, T x) noexcept {
   T const ax = plume::abs(x), ay = plume::abs(y);
   auto const steep = ay > ax;
   T const num = plume::select(steep, ax, ay), den = plume::select(steep, ay, ax);
-  T r = num / den; // in [0, 1]; 0/0 and inf/inf patched:
+  T r = num / den; // in [0, 1], with its rounding error as r_lo; 0/0 and inf/inf patched:
+  detail::dw<T> const pr = detail::two_prod(r, den);
+  T r_lo = ((num - pr.hi) - pr.lo) / den;
+  auto const degenerate = ((ax == zero<T>()) & (ay == zero<T>())) | plume::is_infinite(ax) | plume::is_infinite(ay);
   r = plume::select((ax == zero<T>()) & (ay == zero<T>()), zero<T>(), r);
   r = plume::select(plume::is_infinite(ax) & plume::is_infinite(ay), one<T>(), r);
-  T theta = detail::atan_nonneg(r);
+  r_lo = plume::select(degenerate | (den < splat<T>(1e-30)) | (den > splat<T>(1e30)), zero<T>(), r_lo);
+  T theta = detail::atan_nonneg(r, r_lo);
   theta = plume::select(steep, splat<T>(C::pio2_hi) - (theta - splat<T>(C::pio2_lo)), theta);
   theta = plume::select(plume::is_sign_negative(x),
                         splat<T>(C::pi_hi) - (theta - splat<T>(C::pi_lo)), theta);

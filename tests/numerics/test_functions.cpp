@@ -1,0 +1,139 @@
+// Per-element functions: each against an independent oracle (the C library on scalars) and
+// its documented rule for NaN, signed zeros and infinities, on every element type.
+#include "../common/harness.hpp"
+#include "../common/types.hpp"
+
+using namespace plume;
+
+namespace {
+// Applies f to a T holding x in every lane and checks every lane equals want (bitwise).
+template <class T, class F>
+void expect_all_lanes(F f, scalar_t<T> x, scalar_t<T> want, char const* what) {
+  auto const out = to_array(f(splat<T>(x)));
+  for (auto o : out) {
+    INFO(what << "(" << x << ") = " << o << ", expected " << want);
+    CHECK(test::same_bits(o, want));
+  }
+}
+template <class T, class F>
+void expect_all_lanes2(F f, scalar_t<T> x, scalar_t<T> y, scalar_t<T> want, char const* what) {
+  auto const out = to_array(f(splat<T>(x), splat<T>(y)));
+  for (auto o : out) {
+    INFO(what << "(" << x << ", " << y << ") = " << o << ", expected " << want);
+    CHECK(test::same_bits(o, want));
+  }
+}
+} // namespace
+
+TEMPLATE_LIST_TEST_CASE("rounding and sign functions match the C library bit for bit",
+                        "[numerics][functions]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  auto values = test::random_values<S>(4000, 11, 9);
+  auto const adv = test::adversarial<S>();
+  values.insert(values.end(), adv.begin(), adv.end());
+  for (S v : {S(0.49999997), S(-0.49999997), S(0.5), S(1.5), S(2.5), S(-2.5), S(-0.3), S(8388607.5), S(4503599627370495.5)})
+    values.push_back(v);
+  for (S x : values) {
+    expect_all_lanes<T>([](auto v) { return plume::floor(v); }, x, std::floor(x), "floor");
+    expect_all_lanes<T>([](auto v) { return plume::ceil(v); }, x, std::ceil(x), "ceil");
+    expect_all_lanes<T>([](auto v) { return plume::trunc(v); }, x, std::trunc(x), "trunc");
+    expect_all_lanes<T>([](auto v) { return plume::round(v); }, x, std::round(x), "round");
+    expect_all_lanes<T>([](auto v) { return plume::round_ties_even(v); }, x, std::nearbyint(x), "round_ties_even");
+    expect_all_lanes<T>([](auto v) { return plume::abs(v); }, x, std::fabs(x), "abs");
+    expect_all_lanes<T>([](auto v) { return plume::sqrt(v); }, x, std::sqrt(x), "sqrt");
+    expect_all_lanes<T>([](auto v) { return plume::fract(v); }, x, x - std::trunc(x), "fract");
+    expect_all_lanes<T>([](auto v) { return plume::recip(v); }, x, S(1) / x, "recip");
+    S const sg = std::isnan(x) ? x : std::copysign(S(1), x);
+    expect_all_lanes<T>([](auto v) { return plume::signum(v); }, x, sg, "signum");
+    expect_all_lanes<T>([](auto v) { return plume::copysign(splat<decltype(v)>(3), v); }, x, std::copysign(S(3), x), "copysign");
+    CHECK(plume::bitmask(plume::is_nan(splat<T>(x))) == (std::isnan(x) ? (std::uint64_t(1) << lanes_v<T>) - 1 : 0u));
+    CHECK(plume::all(plume::is_finite(splat<T>(x))) == std::isfinite(x));
+    CHECK(plume::all(plume::is_infinite(splat<T>(x))) == std::isinf(x));
+    CHECK(plume::all(plume::is_sign_negative(splat<T>(x))) == std::signbit(x));
+    CHECK(test::same_bits(lane(from_bits<T>(to_bits(splat<T>(x))), 0), x));
+  }
+}
+
+TEMPLATE_LIST_TEST_CASE("min and max: IEEE 754-2019 minimum/maximum in every path",
+                        "[numerics][functions]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  S const nan = std::numeric_limits<S>::quiet_NaN(), inf = std::numeric_limits<S>::infinity();
+  auto mn = [](auto a, auto b) { return plume::min(a, b); };
+  auto mx = [](auto a, auto b) { return plume::max(a, b); };
+  expect_all_lanes2<T>(mn, S(1), S(2), S(1), "min");
+  expect_all_lanes2<T>(mn, S(2), S(1), S(1), "min");
+  expect_all_lanes2<T>(mx, S(1), S(2), S(2), "max");
+  expect_all_lanes2<T>(mn, S(-0.0), S(0), S(-0.0), "min");
+  expect_all_lanes2<T>(mn, S(0), S(-0.0), S(-0.0), "min");
+  expect_all_lanes2<T>(mx, S(-0.0), S(0), S(0), "max");
+  expect_all_lanes2<T>(mx, S(0), S(-0.0), S(0), "max");
+  expect_all_lanes2<T>(mx, S(-0.0), S(-0.0), S(-0.0), "max");
+  for (S v : {S(1), -inf, inf, S(0)}) {
+    expect_all_lanes2<T>(mn, nan, v, nan, "min");
+    expect_all_lanes2<T>(mn, v, nan, nan, "min");
+    expect_all_lanes2<T>(mx, nan, v, nan, "max");
+    expect_all_lanes2<T>(mx, v, nan, nan, "max");
+  }
+  expect_all_lanes2<T>(mn, -inf, S(3), -inf, "min");
+  expect_all_lanes2<T>(mx, -inf, inf, inf, "max");
+  auto cl = [](auto x) { using V = decltype(x); return plume::clamp(x, splat<V>(-1), splat<V>(1)); };
+  expect_all_lanes<T>(cl, S(5), S(1), "clamp");
+  expect_all_lanes<T>(cl, S(-5), S(-1), "clamp");
+  expect_all_lanes<T>(cl, S(0.25), S(0.25), "clamp");
+  expect_all_lanes<T>(cl, nan, nan, "clamp");
+  // lo > hi gives hi
+  expect_all_lanes<T>([](auto x) { using V = decltype(x); return plume::clamp(x, splat<V>(2), splat<V>(1)); }, S(0), S(1), "clamp");
+}
+
+TEMPLATE_LIST_TEST_CASE("mul_add, lerp and hypot", "[numerics][functions]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  // mul_add is unfused in deterministic builds: 1 + e and 1 - e multiply to 1 - e^2, whose
+  // e^2 is lost when rounded before the add and kept when fused.
+  S const eps = std::numeric_limits<S>::epsilon();
+  T const r = plume::mul_add(splat<T>(1 + eps), splat<T>(1 - eps), splat<T>(-1));
+  S const want = plume::fused_mul_add ? -eps * eps : S(0);
+  CHECK(test::same_bits(lane(r, 0), want));
+  CHECK(lane(plume::lerp(splat<T>(2), splat<T>(6), splat<T>(0.25)), 0) == S(3));
+  CHECK(lane(plume::lerp(splat<T>(2), splat<T>(6), splat<T>(0)), 0) == S(2));
+  S const inf = std::numeric_limits<S>::infinity(), nan = std::numeric_limits<S>::quiet_NaN();
+  auto hy = [](auto a, auto b) { return plume::hypot(a, b); };
+  expect_all_lanes2<T>(hy, S(3), S(4), S(5), "hypot");
+  expect_all_lanes2<T>(hy, S(-3), S(0), S(3), "hypot");
+  expect_all_lanes2<T>(hy, S(0), S(-0.0), S(0), "hypot");
+  expect_all_lanes2<T>(hy, inf, nan, inf, "hypot");
+  expect_all_lanes2<T>(hy, nan, -inf, inf, "hypot");
+  expect_all_lanes2<T>(hy, nan, S(1), nan, "hypot");
+  // No overflow or underflow of the squares.
+  S const big = std::numeric_limits<S>::max() / 2;
+  CHECK(lane(plume::hypot(splat<T>(big), splat<T>(big)), 0) == Approx(big * std::sqrt(2.0)).epsilon(1e-6));
+  S const tiny = std::numeric_limits<S>::denorm_min() * 3;
+  CHECK(lane(plume::hypot(splat<T>(tiny), splat<T>(tiny * 4 / 3)), 0) > 0);
+  // Accuracy against long double on random pairs.
+  test::ulp_report rep;
+  auto const xs = test::random_values<S>(20000, 5), ys = test::random_values<S>(20000, 6);
+  for (std::size_t i = 0; i < xs.size(); ++i) {
+    long double const want_h = std::hypot(static_cast<long double>(xs[i]), static_cast<long double>(ys[i]));
+    rep.add(test::ulp_error(lane(plume::hypot(splat<T>(xs[i]), splat<T>(ys[i])), 0), want_h), xs[i], ys[i]);
+  }
+  INFO("hypot max error " << double(rep.max_ulp) << " ulp at (" << double(rep.at_x) << ", " << double(rep.at_y) << ")");
+  CHECK(rep.max_ulp <= 1.0L);
+}
+
+TEMPLATE_LIST_TEST_CASE("approximate reciprocal and rsqrt meet their bound", "[numerics][approx]",
+                        test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  for (S x : test::random_values<S>(2000, 3, 30)) {
+    S const ax = std::fabs(x);
+    if (ax < S(1e-30) || ax > S(1e30)) continue;
+    double const r = double(lane(plume::recip_approx(splat<T>(x)), 0));
+    CHECK(std::fabs(r * double(x) - 1) <= 1.5 / 4096);
+    double const q = double(lane(plume::rsqrt_approx(splat<T>(ax)), 0));
+    CHECK(std::fabs(q * std::sqrt(double(ax)) - 1) <= 1.5 / 4096);
+  }
+  CHECK(std::isinf(lane(plume::recip_approx(zero<T>()), 0)));
+  CHECK(std::isnan(lane(plume::rsqrt_approx(splat<T>(-1)), 0)));
+}

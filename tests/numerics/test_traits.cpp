@@ -1,0 +1,149 @@
+// Traits, concepts, masks, constants, lane access, loads and stores.
+#include "../common/harness.hpp"
+#include "../common/types.hpp"
+
+using namespace plume;
+
+// Which types satisfy which concept (the table of DESIGN.md).
+static_assert(Num<float> && Signed<float> && Real<float> && Float<float> && ScalarReal<float>);
+static_assert(Float<double> && ScalarReal<double> && !WideReal<double>);
+static_assert(Num<std::int32_t> && Signed<std::int32_t> && Int<std::int32_t> && !Real<std::int32_t>);
+static_assert(Num<std::uint32_t> && Int<std::uint32_t> && !Signed<std::uint32_t>);
+static_assert(Mask<bool> && !Num<bool> && !Real<bool>);
+static_assert(lanes_v<float> == 1 && std::is_same_v<mask_t<float>, bool>);
+static_assert(std::is_same_v<bits_t<double>, std::uint64_t> && std::is_same_v<scalar_t<double>, double>);
+#if PLUME_HAS_BATCHES
+static_assert(Float<f32x4> && WideReal<f32x4> && !ScalarReal<f32x4>);
+static_assert(Float<f64x2> && lanes_v<f64x2> == 2 && lanes_v<f32x4> == 4);
+static_assert(Int<i32x4> && Signed<i32x4> && !Real<i32x4>);
+static_assert(Int<u32x4> && !Signed<u32x4>);
+static_assert(Mask<mask_t<f32x4>> && !Num<mask_t<f32x4>>);
+static_assert(std::is_same_v<scalar_t<f32x4>, float> && std::is_same_v<bits_t<f32x4>, xsimd::batch<std::uint32_t, arch_128>>);
+#endif
+#if PLUME_HAS_AVX2
+static_assert(lanes_v<f32x8> == 8 && lanes_v<f64x4> == 4 && WideReal<f64x4>);
+#endif
+#if PLUME_HAS_AVX512
+static_assert(lanes_v<f32x16> == 16 && lanes_v<f64x8> == 8 && Int<i32x16>);
+#endif
+static_assert(lanes_v<f32xN> >= 1 && Float<f32xN> && Float<f64xN>);
+
+TEMPLATE_LIST_TEST_CASE("splat, lane, with_lane, arrays", "[numerics][traits]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  T x = splat<T>(2.5);
+  for (std::size_t i = 0; i < lanes_v<T>; ++i) CHECK(lane(x, i) == S(2.5));
+  for (std::size_t i = 0; i < lanes_v<T>; ++i) x = with_lane(x, i, S(i) * 3);
+  auto const a = to_array(x);
+  for (std::size_t i = 0; i < lanes_v<T>; ++i) CHECK(a[i] == S(i) * 3);
+  CHECK(test::same_bits(lane(from_array<T>(a), lanes_v<T> - 1), S(lanes_v<T> - 1) * 3));
+}
+
+TEMPLATE_LIST_TEST_CASE("loads and stores, full and partial", "[numerics][memory]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  alignas(64) S src[lanes_v<T> + 1];
+  for (std::size_t i = 0; i <= lanes_v<T>; ++i) src[i] = S(i + 1);
+  CHECK(lane(load_aligned<T>(src), 0) == S(1));
+  CHECK(lane(load<T>(src + 1), lanes_v<T> - 1) == S(lanes_v<T> + 1));
+  for (std::size_t n = 0; n <= lanes_v<T>; ++n) {
+    T const p = load_partial<T>(src, n);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) CHECK(lane(p, i) == (i < n ? S(i + 1) : S(0)));
+    S dst[lanes_v<T> + 1];
+    for (auto& d : dst) d = S(-7);
+    store_partial(dst, splat<T>(9), n);
+    for (std::size_t i = 0; i <= lanes_v<T>; ++i) CHECK(dst[i] == (i < n ? S(9) : S(-7)));
+  }
+  alignas(64) S out[lanes_v<T>];
+  store_aligned(out, splat<T>(4));
+  store(out, splat<T>(5));
+  CHECK(out[lanes_v<T> - 1] == S(5));
+}
+
+TEMPLATE_LIST_TEST_CASE("masks: operators, scalar-left comparisons, any/all/none, bitmask, select",
+                        "[numerics][mask]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  T x = zero<T>();
+  for (std::size_t i = 0; i < lanes_v<T>; ++i) x = with_lane(x, i, S(i));
+  mask_t<T> const lt = S(0.5) < x; // scalar on the left
+  mask_t<T> const gt = x > S(0.5);
+  std::uint64_t const want = lanes_v<T> == 1 ? 0 : ((std::uint64_t(1) << lanes_v<T>) - 2);
+  CHECK(plume::bitmask(lt) == want);
+  CHECK(plume::bitmask(gt) == want);
+  CHECK(plume::bitmask(S(0) == x) == 1u);
+  CHECK(plume::bitmask(x == S(0)) == 1u);
+  CHECK(plume::bitmask(S(0) != x) == want);
+  CHECK(plume::bitmask(!(x == S(0))) == want);
+  CHECK(plume::bitmask((x >= S(0)) & (x <= S(0))) == 1u);
+  CHECK(plume::bitmask((x < S(0)) | (x == S(0))) == 1u);
+  CHECK(plume::bitmask((x >= S(0)) ^ (x > S(0))) == 1u);
+  CHECK(plume::any(x >= S(0)));
+  CHECK(plume::all(x >= S(0)));
+  CHECK(plume::none(x < S(0)));
+  CHECK(plume::any(x == S(0)));
+  CHECK(plume::all(x == S(0)) == (lanes_v<T> == 1));
+  T const s = plume::select(x > S(0.5), x, splat<T>(-1));
+  CHECK(lane(s, 0) == S(-1));
+  CHECK(lane(plume::select(x > S(0.5), S(7), x), 0) == S(0));
+  CHECK(lane(plume::select(x < S(0.5), x, S(7)), 0) == S(0));
+  CHECK(lane(s, lanes_v<T> - 1) == (lanes_v<T> == 1 ? S(-1) : S(lanes_v<T> - 1)));
+}
+
+TEMPLATE_LIST_TEST_CASE("constants have one spelling for every type", "[numerics][constants]",
+                        test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  CHECK(lane(pi<T>(), 0) == std::numbers::pi_v<S>);
+  CHECK(lane(tau<T>(), 0) == S(2) * std::numbers::pi_v<S>);
+  CHECK(lane(e<T>(), 0) == std::numbers::e_v<S>);
+  CHECK(lane(frac_pi_2<T>(), 0) == std::numbers::pi_v<S> / 2);
+  CHECK(lane(ln2<T>(), 0) == std::numbers::ln2_v<S>);
+  CHECK(lane(sqrt2<T>(), 0) == std::numbers::sqrt2_v<S>);
+  CHECK(lane(epsilon<T>(), 0) == std::numeric_limits<S>::epsilon());
+  CHECK(lane(max_value<T>(), 0) == std::numeric_limits<S>::max());
+  CHECK(lane(min_value<T>(), 0) == std::numeric_limits<S>::lowest());
+  CHECK(lane(min_positive<T>(), 0) == std::numeric_limits<S>::min());
+  CHECK(std::isinf(lane(infinity<T>(), 0)));
+  CHECK(lane(neg_infinity<T>(), 0) < 0);
+  CHECK(std::isnan(lane(nan<T>(), 0)));
+  CHECK(lane(zero<T>() + one<T>() + neg_one<T>() + two<T>() * half<T>(), 0) == S(1));
+  CHECK(lane(log2_10<T>(), 0) == Approx(std::log2(10.0)).epsilon(1e-7));
+  CHECK(lane(log10_2<T>(), 0) == Approx(std::log10(2.0)).epsilon(1e-7));
+  CHECK(lane(frac_1_sqrt2<T>(), 0) == Approx(std::sqrt(0.5)).epsilon(1e-7));
+  CHECK(lane(frac_2_sqrt_pi<T>(), 0) == Approx(2 / std::sqrt(std::numbers::pi)).epsilon(1e-7));
+}
+
+TEMPLATE_LIST_TEST_CASE("integer element types", "[numerics][int]", test::int_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  T const a = splat<T>(7), b = splat<T>(3);
+  CHECK(lane(plume::min(a, b), 0) == S(3));
+  CHECK(lane(plume::max(a, b), 0) == S(7));
+  CHECK(lane(plume::clamp(splat<T>(9), b, a), 0) == S(7));
+  CHECK(lane(a * b + a - b, 0) == S(25));
+  CHECK(plume::reduce_add(a) == S(7 * lanes_v<T>));
+  if constexpr (std::is_signed_v<S>) {
+    CHECK(lane(plume::abs(splat<T>(-4)), 0) == S(4));
+    CHECK(lane(plume::signum(splat<T>(-4)), 0) == S(-1));
+    CHECK(lane(plume::signum(zero<T>()), 0) == S(0));
+  }
+}
+
+TEMPLATE_LIST_TEST_CASE("reductions have a fixed order", "[numerics][reduce]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  T x = zero<T>();
+  // Values whose sum depends on the order: big, tiny, -big, ...
+  for (std::size_t i = 0; i < lanes_v<T>; ++i) x = with_lane(x, i, S((i % 2) ? 1e-3 : 1e7) * S(i % 4 < 2 ? 1 : -1) + S(i));
+  auto const a = to_array(x);
+  // The documented order: upper half onto lower half, repeatedly.
+  std::vector<S> v(a.begin(), a.end());
+  for (std::size_t n = v.size() / 2; n >= 1; n /= 2)
+    for (std::size_t i = 0; i < n; ++i) v[i] = v[i] + v[i + n];
+  CHECK(test::same_bits(plume::reduce_add(x), v[0]));
+  CHECK(plume::reduce_min(x) == *std::min_element(a.begin(), a.end()));
+  CHECK(plume::reduce_max(x) == *std::max_element(a.begin(), a.end()));
+  CHECK(std::isnan(plume::reduce_min(with_lane(x, lanes_v<T> - 1, std::numeric_limits<S>::quiet_NaN()))));
+  CHECK(std::isnan(plume::reduce_max(with_lane(x, 0, std::numeric_limits<S>::quiet_NaN()))));
+}
