@@ -14,6 +14,7 @@
 #include <plume/numerics/constants.hpp>
 #include <plume/numerics/exp_log.hpp>
 #include <plume/numerics/functions.hpp>
+#include <plume/numerics/hypot.hpp>
 #include <plume/numerics/mask.hpp>
 #include <plume/numerics/memory.hpp>
 #include <plume/numerics/reduce.hpp>

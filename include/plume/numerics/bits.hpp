@@ -67,7 +67,7 @@ PLUME_INLINE T bit_xor(T a, T b) noexcept {
 template <Float T>
 PLUME_INLINE T bit_andnot(T a, T b) noexcept {
   if constexpr (is_batch_v<T>)
-    return xsimd::bitwise_andnot(a, b);
+    return a & ~b; // not xsimd::bitwise_andnot: in xsimd 8.1 it computes ~a & b
   else
     return from_bits<T>(plume::to_bits(a) & ~plume::to_bits(b));
 }

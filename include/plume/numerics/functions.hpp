@@ -20,8 +20,7 @@
 // sqrt: correctly rounded; sqrt(-x) = NaN, sqrt(-0) = -0.   recip(x) = 1 / x.
 // mul_add(a, b, c) = a*b + c, rounded twice; fused (rounded once) only when the build sets
 //   PLUME_FMA (PLUME_DETERMINISTIC must then be off).
-// hypot(x, y) = sqrt(x^2 + y^2) without overflow or underflow of the squares, <= 1 ulp
-//   off; hypot(+-inf, anything) = +inf (also with NaN), else NaN if either is NaN.
+// hypot(x, y): in <plume/numerics/hypot.hpp> (it needs the double-word helpers).
 // lerp(a, b, t) = a + t*(b - a): exact at t = 0, monotonic in t when a, b are finite.
 #pragma once
 
@@ -233,22 +232,6 @@ PLUME_INLINE T mul_add(T a, T b, T c) noexcept {
 #else
   return a * b + c;
 #endif
-}
-
-template <Float T>
-PLUME_INLINE T hypot(T x, T y) noexcept {
-  // Scale both by the power of two below the larger (exact), so the squares neither
-  // overflow nor underflow: sqrt((x s)^2 + (y s)^2) / s.
-  T const ax = plume::abs(x), ay = plume::abs(y);
-  T const big = plume::max(ax, ay);
-  using S = scalar_t<T>;
-  std::uint64_t const exp_mask = sizeof(S) == 4 ? 0x7f800000ull : 0x7ff0000000000000ull;
-  T const unit =
-      plume::max(detail::bit_and(big, detail::bit_pattern<T>(exp_mask)), min_positive<T>());
-  T const s = plume::recip(unit); // a power of two, exact
-  T const xs = ax * s, ys = ay * s;
-  T const h = plume::sqrt(xs * xs + ys * ys) * unit;
-  return plume::select(plume::is_infinite(ax) | plume::is_infinite(ay), infinity<T>(), h);
 }
 
 template <Real T>

@@ -1,11 +1,22 @@
 // plume/numerics/simd.hpp - the one place plume includes xsimd, and what plume adds to it.
 //
 // Nothing above the numerics module includes <xsimd/xsimd.hpp> directly. This header
-//  - includes xsimd in every build but the scalar one (which instantiates no batch type);
+//  - includes xsimd in every build (the scalar build instantiates no batch type, but the
+//    generic code names xsimd in branches it discards);
 //  - names the architectures behind plume's widths: `arch_128` (SSE2 or the best SSE4
 //    the flags enable), `arch_256` (AVX2) and `arch_512` (AVX-512 F/CD/DQ/BW);
 //  - adds the comparisons with a scalar on the left that xsimd 8.1 lacks
-//    (`1.f < batch` gives a batch_bool, like `batch > 1.f`).
+//    (`1.f < batch` gives a batch_bool, like `batch > 1.f`);
+//  - repairs xsimd 8.1's AVX-512 mask xor, which computes `a | b` (its kernel
+//    `bitwise_xor(batch_bool, batch_bool, requires_arch<avx512f>)` ors the k-registers).
+//    The batch_bool member operator^ looks its kernel up where it is defined, so the
+//    exact-arch overload below is declared before xsimd is included and wins there as the
+//    better match (avx512bw const& binds without a derived-to-base conversion);
+//  - repairs xsimd 8.1's AVX and AVX-512 float `a != b`, which uses the ordered predicate
+//    (_CMP_NEQ_OQ) and so says NaN != NaN is false, unlike C++ and SSE's cmpneq. The same
+//    exact-arch overloads give the IEEE answer (_CMP_NEQ_UQ: true when unordered);
+//  - repairs xsimd 8.1's AVX-512 float negation, computed as `0 - x` (so -(+0) = +0); the
+//    overload flips the sign bit, as the SSE and AVX kernels do.
 #pragma once
 
 #include <plume/config.hpp>
@@ -14,11 +25,85 @@
 #include <cstdint>
 #include <type_traits>
 
-#if !defined(PLUME_SIMD_SCALAR)
-#define PLUME_HAS_BATCHES 1
-#include <xsimd/xsimd.hpp>
-#else
+#if defined(PLUME_SIMD_SCALAR)
 #define PLUME_HAS_BATCHES 0
+#else
+#define PLUME_HAS_BATCHES 1
+#endif
+
+namespace xsimd {
+struct avx2;
+struct avx512bw;
+template <class T, class A>
+class batch;
+template <class T, class A>
+class batch_bool;
+namespace kernel {
+#if PLUME_HAS_AVX512
+template <class A, class T>
+batch_bool<T, A> bitwise_xor(batch_bool<T, A> const& self, batch_bool<T, A> const& other,
+                             avx512bw const&) noexcept;
+template <class A>
+batch_bool<float, A> neq(batch<float, A> const& a, batch<float, A> const& b, avx512bw const&) noexcept;
+template <class A>
+batch_bool<double, A> neq(batch<double, A> const& a, batch<double, A> const& b,
+                          avx512bw const&) noexcept;
+template <class A>
+batch<float, A> neg(batch<float, A> const& a, avx512bw const&) noexcept;
+template <class A>
+batch<double, A> neg(batch<double, A> const& a, avx512bw const&) noexcept;
+#endif
+#if PLUME_HAS_AVX2
+template <class A>
+batch_bool<float, A> neq(batch<float, A> const& a, batch<float, A> const& b, avx2 const&) noexcept;
+template <class A>
+batch_bool<double, A> neq(batch<double, A> const& a, batch<double, A> const& b, avx2 const&) noexcept;
+#endif
+} // namespace kernel
+} // namespace xsimd
+#include <xsimd/xsimd.hpp>
+static_assert(XSIMD_VERSION_MAJOR == 8,
+              "plume's xsimd repairs (simd.hpp) were checked against xsimd 8.1: re-check them");
+#if PLUME_HAS_AVX512
+template <class A, class T>
+xsimd::batch_bool<T, A> xsimd::kernel::bitwise_xor(batch_bool<T, A> const& self,
+                                                   batch_bool<T, A> const& other,
+                                                   avx512bw const&) noexcept {
+  using register_type = typename batch_bool<T, A>::register_type;
+  return register_type(self.data ^ other.data);
+}
+template <class A>
+xsimd::batch_bool<float, A> xsimd::kernel::neq(batch<float, A> const& a, batch<float, A> const& b,
+                                               avx512bw const&) noexcept {
+  return _mm512_cmp_ps_mask(a, b, _CMP_NEQ_UQ);
+}
+template <class A>
+xsimd::batch_bool<double, A> xsimd::kernel::neq(batch<double, A> const& a, batch<double, A> const& b,
+                                                avx512bw const&) noexcept {
+  return _mm512_cmp_pd_mask(a, b, _CMP_NEQ_UQ);
+}
+template <class A>
+xsimd::batch<float, A> xsimd::kernel::neg(batch<float, A> const& a, avx512bw const&) noexcept {
+  return _mm512_castsi512_ps(
+      _mm512_xor_si512(_mm512_castps_si512(a), _mm512_set1_epi32(static_cast<int>(0x80000000u))));
+}
+template <class A>
+xsimd::batch<double, A> xsimd::kernel::neg(batch<double, A> const& a, avx512bw const&) noexcept {
+  return _mm512_castsi512_pd(_mm512_xor_si512(
+      _mm512_castpd_si512(a), _mm512_set1_epi64(static_cast<long long>(0x8000000000000000ull))));
+}
+#endif
+#if PLUME_HAS_AVX2
+template <class A>
+xsimd::batch_bool<float, A> xsimd::kernel::neq(batch<float, A> const& a, batch<float, A> const& b,
+                                               avx2 const&) noexcept {
+  return _mm256_cmp_ps(a, b, _CMP_NEQ_UQ);
+}
+template <class A>
+xsimd::batch_bool<double, A> xsimd::kernel::neq(batch<double, A> const& a, batch<double, A> const& b,
+                                                avx2 const&) noexcept {
+  return _mm256_cmp_pd(a, b, _CMP_NEQ_UQ);
+}
 #endif
 
 #if PLUME_HAS_BATCHES

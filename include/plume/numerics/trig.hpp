@@ -193,8 +193,13 @@ PLUME_INLINE T asin(T x) noexcept {
   T const f = detail::bit_and(s, detail::bit_pattern<T>(C::hi_half_mask));
   T const c = plume::select(z == zero<T>(), zero<T>(), (z - f * f) / (s + f)); // |x| = 1: 0/0
   T const pio4 = splat<T>(C::pio4_hi);
-  T const big_abs =
+  T const mid_abs =
       pio4 - ((two<T>() * s * R - (splat<T>(C::pio2_lo) - two<T>() * c)) - (pio4 - two<T>() * f));
+  // Near 1 the plain form is accurate enough and gives asin(+-1) = +-pi/2 correctly rounded
+  // (the split form's three roundings can land one ulp low there).
+  T const near_one_abs =
+      splat<T>(C::pio2_hi) - (two<T>() * (s + s * R) - splat<T>(C::pio2_lo));
+  T const big_abs = plume::select(a >= splat<T>(scalar_t<T>(0.975)), near_one_abs, mid_abs);
   return plume::select(big, plume::copysign(big_abs, x), small_res);
 }
 
@@ -236,10 +241,15 @@ PLUME_INLINE T atan2(T y, T x) noexcept {
   r = plume::select((ax == zero<T>()) & (ay == zero<T>()), zero<T>(), r);
   r = plume::select(plume::is_infinite(ax) & plume::is_infinite(ay), one<T>(), r);
   r_lo = plume::select(degenerate | (den < splat<T>(1e-30)) | (den > splat<T>(1e30)), zero<T>(), r_lo);
-  T theta = detail::atan_nonneg(r, r_lo);
-  theta = plume::select(steep, splat<T>(C::pio2_hi) - (theta - splat<T>(C::pio2_lo)), theta);
-  theta = plume::select(plume::is_sign_negative(x),
-                        splat<T>(C::pi_hi) - (theta - splat<T>(C::pi_lo)), theta);
+  T const t = detail::atan_nonneg(r, r_lo);
+  // The angle is k pi/2 +- t: t (k = 0), pi/2 - t (steep), pi/2 + t (steep, x < 0),
+  // pi - t (x < 0). k pi/2 is carried as hi + lo and t is added to the low word first, so
+  // t = 0 gives k pi/2 correctly rounded (atan2(1, 0) = pi/2, atan2(0, -1) = pi).
+  auto const neg_x = plume::is_sign_negative(x);
+  T const k = plume::select(steep, one<T>(), plume::select(neg_x, two<T>(), zero<T>()));
+  T const k_hi = k * splat<T>(C::pio2_hi), k_lo = k * splat<T>(C::pio2_lo);
+  T const signed_t = plume::select(steep ^ neg_x, -t, t);
+  T theta = k_hi + (k_lo + signed_t);
   theta = plume::select(plume::is_nan(x) | plume::is_nan(y), x + y, theta);
   return plume::copysign(theta, y);
 }

@@ -1,0 +1,95 @@
+#!/usr/bin/env bash
+# The README's test command: builds every variant and runs every test.
+#
+#   bash tests/run_all.sh
+#
+# 1. installs the Debian packages that are missing (as root; see tools/install_deps.sh);
+# 2. configures, builds (warnings are errors here) and tests the scalar, sse2, avx2 and
+#    avx512 variants - tests of an instruction set this CPU lacks are reported as skipped;
+# 3. an AddressSanitizer + UndefinedBehaviorSanitizer build (avx2), tests only;
+# 4. the cross-build determinism check: every deterministic variant that ran must print the
+#    same golden hashes (each build also compares with tests/determinism/golden.txt);
+# 5. every benchmark binary of every variant, once, with a tiny time budget.
+# Build folders: build/ci-<variant>. Exit status 0 only if everything passed.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+root=$PWD
+
+bash tools/install_deps.sh
+
+jobs=$(nproc 2>/dev/null || echo 2)
+variants=(scalar sse2 avx2 avx512)
+failed=()
+start=$(date +%s)
+
+step() { printf '\n=== %s (%ds)\n' "$*" $(($(date +%s) - start)); }
+
+configure_build() { # <dir> <cmake args...>
+  local dir=$1
+  shift
+  cmake -S "$root" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DPLUME_BUILD_TESTS=ON \
+    -DCMAKE_CXX_FLAGS=-Werror "$@" >"$dir.configure.log" 2>&1 || {
+    cat "$dir.configure.log"
+    return 1
+  }
+  cmake --build "$dir" -j "$jobs"
+}
+
+mkdir -p build
+for v in "${variants[@]}"; do
+  step "variant $v: build"
+  if ! configure_build "build/ci-$v" -DPLUME_SIMD="$v" -DPLUME_BUILD_BENCH=ON; then
+    failed+=("$v build")
+    continue
+  fi
+  step "variant $v: tests"
+  ctest --test-dir "build/ci-$v" --output-on-failure -j "$jobs" || failed+=("$v tests")
+done
+
+step "sanitizers (address, undefined): build"
+if configure_build build/ci-sanitize -DPLUME_SIMD=avx2 -DPLUME_BUILD_BENCH=OFF \
+  -DPLUME_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=RelWithDebInfo; then
+  step "sanitizers: tests"
+  ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    ctest --test-dir build/ci-sanitize --output-on-failure -j "$jobs" || failed+=("sanitize tests")
+else
+  failed+=("sanitize build")
+fi
+
+step "cross-build determinism"
+ref=""
+for v in "${variants[@]}"; do
+  g=build/ci-$v/tests/plume_golden
+  [ -x "$g" ] || continue
+  if ! build/ci-$v/tests/plume_cpu_gate "$v" /bin/true >/dev/null 2>&1; then
+    echo "determinism: $v skipped (this CPU lacks its instruction set)"
+    continue
+  fi
+  "$g" >"build/ci-$v/golden.txt"
+  if [ -z "$ref" ]; then
+    ref=$v
+  elif ! diff -u "build/ci-$ref/golden.txt" "build/ci-$v/golden.txt"; then
+    failed+=("determinism $ref vs $v")
+  fi
+  echo "determinism: $v matches $ref"
+done
+
+step "benchmarks, once each"
+for v in "${variants[@]}"; do
+  for b in build/ci-$v/bench/plume_bench_*; do
+    [ -x "$b" ] || continue
+    if ! build/ci-$v/tests/plume_cpu_gate "$v" /bin/true >/dev/null 2>&1; then
+      echo "bench: $b skipped (this CPU lacks the $v instruction set)"
+      continue
+    fi
+    echo "bench: $b"
+    "$b" --benchmark_min_time=0.001 --benchmark_format=json >"$b.smoke.json" || failed+=("$b")
+  done
+done
+
+step "done"
+if [ ${#failed[@]} -ne 0 ]; then
+  printf 'FAILED: %s\n' "${failed[@]}"
+  exit 1
+fi
+echo "all variants built, all tests passed"
