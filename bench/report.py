@@ -1,13 +1,15 @@
 #!/usr/bin/env python3
-"""plume's width report: reads Google Benchmark JSON files and prints, for every benchmark
-case, items/s of each implementation and width and the ratio to plume's scalar (x1) figure
-measured in the same run.
+"""plume's width report, from Google Benchmark JSON files of several build variants.
 
 Benchmark names follow  <case...>/<type>/<implementation>/x<width>  (see bench/*/); with
 repetitions the median is used. Usage:
-    report.py OUT_DIR RESULT.json [RESULT.json ...]
-writes OUT_DIR/width_report.md (the table also goes to stdout) and, when matplotlib is
-available, OUT_DIR/width_report.png (speed-up over plume x1 per case and width).
+    report.py OUT_DIR WIDEST VARIANT=RESULT.json [VARIANT=RESULT.json ...]
+Prints and writes OUT_DIR/width_report.md with two tables:
+  across builds     plume x1 of the scalar build, and plume at the widest width of every
+                    other build, with the speed-up over the scalar build
+  within one build  every implementation and width of the WIDEST build, with the ratio to
+                    plume x1 measured in the same run (the figure to quote on a noisy machine)
+and, when matplotlib is available, OUT_DIR/width_report.png (the across-builds speed-ups).
 """
 import json
 import os
@@ -20,6 +22,8 @@ def load(paths):
     runs = defaultdict(list)  # (case, impl, width) -> [items/s]
     context = None
     for path in paths:
+        if not os.path.exists(path):
+            continue
         with open(path) as f:
             data = json.load(f)
         context = context or data.get("context", {})
@@ -48,27 +52,11 @@ def human(v):
     return f"{v:.3g}"
 
 
-def main():
-    if len(sys.argv) < 3:
-        print(__doc__)
-        return 2
-    out_dir = sys.argv[1]
-    table, ctx = load(sys.argv[2:])
-    os.makedirs(out_dir, exist_ok=True)
-    cols = sorted({k for row in table.values() for k in row},
-                  key=lambda k: (k[0] != "plume", k[0], k[1]))
-    lines = []
-    host = ctx.get("host_name", "?")
-    lines.append(f"# plume width report\n")
-    lines.append(f"Machine: {host}, {ctx.get('num_cpus', '?')} CPUs at "
-                 f"{ctx.get('mhz_per_cpu', '?')} MHz; {ctx.get('date', '')}. Figures are "
-                 "items/s (median of the repetitions); in brackets the ratio to plume x1 "
-                 "of the same case in the same run.\n")
-    header = "| case | " + " | ".join(f"{i} x{w}" for i, w in cols) + " |"
-    lines.append(header)
-    lines.append("|" + "---|" * (len(cols) + 1))
+def table_lines(table, cols, base_of, fmt_base):
+    lines = ["| case | " + " | ".join(fmt_base(c) for c in cols) + " |",
+             "|" + "---|" * (len(cols) + 1)]
     for case, row in table.items():
-        base = row.get(("plume", 1))
+        base = base_of(case)
         cells = []
         for c in cols:
             v = row.get(c)
@@ -79,6 +67,58 @@ def main():
             else:
                 cells.append(human(v))
         lines.append(f"| {case} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def main():
+    if len(sys.argv) < 4:
+        print(__doc__)
+        return 2
+    out_dir, widest = sys.argv[1], sys.argv[2]
+    by_variant = defaultdict(list)
+    for arg in sys.argv[3:]:
+        v, _, path = arg.partition("=")
+        by_variant[v].append(path)
+    order = [v for v in ("scalar", "sse2", "avx2", "avx512", "native") if v in by_variant]
+    tables, ctx = {}, {}
+    for v in order:
+        tables[v], c = load(by_variant[v])
+        ctx = ctx or c
+    os.makedirs(out_dir, exist_ok=True)
+    host = ctx.get("host_name", "?")
+    lines = ["# plume width report", "",
+             f"Machine: {host}, {ctx.get('num_cpus', '?')} CPUs at {ctx.get('mhz_per_cpu', '?')} MHz; "
+             f"{ctx.get('date', '')}. Figures are items/s (median of the repetitions).", ""]
+
+    # Across builds: scalar x1 against each wide build's widest plume width.
+    across = OrderedDict()
+    across_cols = []
+    for v in order:
+        t = tables[v]
+        widths = sorted({w for row in t.values() for (i, w) in row if i == "plume"})
+        if not widths:
+            continue
+        w = widths[-1]
+        col = (v, w)
+        across_cols.append(col)
+        for case, row in t.items():
+            if ("plume", w) in row:
+                across.setdefault(case, {})[col] = row[("plume", w)]
+    lines.append("## Across builds (speed-up over the scalar build)")
+    lines.append("")
+    lines += table_lines(across, across_cols,
+                         lambda case: across[case].get(("scalar", 1)),
+                         lambda c: f"{c[0]} build x{c[1]}")
+    lines.append("")
+
+    # Within the widest build: every width and the peers, one run.
+    within = tables.get(widest, {})
+    cols = sorted({k for row in within.values() for k in row},
+                  key=lambda k: (k[0] != "plume", k[0], k[1]))
+    lines.append(f"## Within the {widest} build (ratio to plume x1 of the same run)")
+    lines.append("")
+    lines += table_lines(within, cols, lambda case: within[case].get(("plume", 1)),
+                         lambda c: f"{c[0]} x{c[1]}")
     text = "\n".join(lines) + "\n"
     print(text)
     with open(os.path.join(out_dir, "width_report.md"), "w") as f:
@@ -90,23 +130,23 @@ def main():
     except ImportError:
         print("(matplotlib not available: no chart)")
         return 0
-    plume_cols = [c for c in cols if c[0] == "plume"]
-    cases = [c for c in table if ("plume", 1) in table[c]]
+    cases = [c for c in across if ("scalar", 1) in across[c]]
     if not cases:
         return 0
     fig, ax = plt.subplots(figsize=(max(8, 0.6 * len(cases)), 5))
-    width = 0.8 / max(1, len(plume_cols))
-    for j, c in enumerate(plume_cols):
-        ys = [table[k].get(c, 0) / table[k][("plume", 1)] for k in cases]
-        ax.bar([i + j * width for i in range(len(cases))], ys, width, label=f"plume x{c[1]}")
-    ax.set_xticks([i + 0.4 - width / 2 for i in range(len(cases))])
+    bw = 0.8 / max(1, len(across_cols))
+    for j, c in enumerate(across_cols):
+        ys = [across[k].get(c, 0) / across[k][("scalar", 1)] for k in cases]
+        ax.bar([i + j * bw for i in range(len(cases))], ys, bw, label=f"{c[0]} build x{c[1]}")
+    ax.set_xticks([i + 0.4 - bw / 2 for i in range(len(cases))])
     ax.set_xticklabels(cases, rotation=60, ha="right", fontsize=8)
-    ax.set_ylabel("speed-up over plume x1 (same run)")
-    ax.set_title(f"plume: throughput by width ({host})")
+    ax.set_ylabel("speed-up over the scalar build")
+    ax.set_title(f"plume: throughput by build variant and width ({host})")
     ax.legend()
     fig.tight_layout()
-    fig.savefig(os.path.join(out_dir, "width_report.png"), dpi=110)
-    print(f"chart: {os.path.join(out_dir, 'width_report.png')}")
+    png = os.path.join(out_dir, "width_report.png")
+    fig.savefig(png, dpi=110)
+    print(f"chart: {png}")
     return 0
 
 

@@ -11,7 +11,8 @@ bool has(char const* isa) {
   __builtin_cpu_init();
   if (!std::strcmp(isa, "scalar") || !std::strcmp(isa, "sse2")) return true;
   if (!std::strcmp(isa, "avx2")) return __builtin_cpu_supports("avx2");
-  if (!std::strcmp(isa, "avx2-fma")) return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  if (!std::strcmp(isa, "avx2-fma"))
+    return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
   if (!std::strcmp(isa, "avx512"))
     return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") &&
            __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512bw") &&
@@ -26,7 +27,8 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (!has(argv[1])) {
-    std::printf("SKIPPED: this CPU lacks the %s instructions the %s build needs\n", argv[1], argv[1]);
+    std::printf("SKIPPED: this CPU lacks the %s instructions the %s build needs\n", argv[1],
+                argv[1]);
     return 77;
   }
   execv(argv[2], argv + 2);

@@ -7,8 +7,9 @@
 # 2. configures, builds (warnings are errors here) and tests the scalar, sse2, avx2 and
 #    avx512 variants - tests of an instruction set this CPU lacks are reported as skipped;
 # 3. an AddressSanitizer + UndefinedBehaviorSanitizer build (avx2), tests only;
-# 4. the cross-build determinism check: every deterministic variant that ran must print the
-#    same golden hashes (each build also compares with tests/determinism/golden.txt);
+#    a clang build (avx2), tests and benchmarks;
+# 4. the cross-build determinism check: every deterministic build that ran (g++ and clang)
+#    must print the same golden hashes (each also compares with tests/determinism/golden.txt);
 # 5. every benchmark binary of every variant, once, with a tiny time budget.
 # Build folders: build/ci-<variant>. Exit status 0 only if everything passed.
 set -euo pipefail
@@ -56,29 +57,40 @@ else
   failed+=("sanitize build")
 fi
 
+step "clang (avx2): build"
+if command -v clang++ >/dev/null && configure_build build/ci-clang-avx2 -DCMAKE_CXX_COMPILER=clang++ \
+  -DPLUME_SIMD=avx2 -DPLUME_BUILD_BENCH=ON; then
+  step "clang (avx2): tests"
+  ctest --test-dir build/ci-clang-avx2 --output-on-failure -j "$jobs" || failed+=("clang tests")
+else
+  failed+=("clang build")
+fi
+
 step "cross-build determinism"
 ref=""
-for v in "${variants[@]}"; do
+for v in "${variants[@]}" clang-avx2; do
   g=build/ci-$v/tests/plume_golden
   [ -x "$g" ] || continue
-  if ! build/ci-$v/tests/plume_cpu_gate "$v" /bin/true >/dev/null 2>&1; then
+  if ! build/ci-$v/tests/plume_cpu_gate "${v#clang-}" /bin/true >/dev/null 2>&1; then
     echo "determinism: $v skipped (this CPU lacks its instruction set)"
     continue
   fi
   "$g" >"build/ci-$v/golden.txt"
   if [ -z "$ref" ]; then
     ref=$v
-  elif ! diff -u "build/ci-$ref/golden.txt" "build/ci-$v/golden.txt"; then
+    echo "determinism: $v is the reference"
+  elif diff -u "build/ci-$ref/golden.txt" "build/ci-$v/golden.txt"; then
+    echo "determinism: $v matches $ref"
+  else
     failed+=("determinism $ref vs $v")
   fi
-  echo "determinism: $v matches $ref"
 done
 
 step "benchmarks, once each"
-for v in "${variants[@]}"; do
+for v in "${variants[@]}" clang-avx2; do
   for b in build/ci-$v/bench/plume_bench_*; do
     [ -x "$b" ] || continue
-    if ! build/ci-$v/tests/plume_cpu_gate "$v" /bin/true >/dev/null 2>&1; then
+    if ! build/ci-$v/tests/plume_cpu_gate "${v#clang-}" /bin/true >/dev/null 2>&1; then
       echo "bench: $b skipped (this CPU lacks the $v instruction set)"
       continue
     fi

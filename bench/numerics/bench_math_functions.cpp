@@ -143,12 +143,11 @@ char const* type_name() {
 }
 
 #define PLUME_BENCH_PLUME_UNARY(FN, T, D)                                                          \
-  benchmark::RegisterBenchmark(name(#FN, type_name<T>(), "plume", plume::lanes_v<T>).c_str(),     \
-                               [](benchmark::State& st) {                                          \
-                                 unary<T>(st, D, [](T v) { return plume::FN(v); });                \
-                               })
+  benchmark::RegisterBenchmark(                                                                    \
+      name(#FN, type_name<T>(), "plume", plume::lanes_v<T>).c_str(),                               \
+      [](benchmark::State& st) { unary<T>(st, D, [](T v) { return plume::FN(v); }); })
 #define PLUME_BENCH_PLUME_BINARY(FN, T, DX, DY)                                                    \
-  benchmark::RegisterBenchmark(name(#FN, type_name<T>(), "plume", plume::lanes_v<T>).c_str(),     \
+  benchmark::RegisterBenchmark(name(#FN, type_name<T>(), "plume", plume::lanes_v<T>).c_str(),      \
                                [](benchmark::State& st) {                                          \
                                  binary<T>(st, DX, DY, [](T a, T b) { return plume::FN(a, b); });  \
                                })
@@ -189,12 +188,11 @@ void register_plume_width() {
 #if PLUME_HAS_BATCHES
 // xsimd's own functions on plume's batch types (they are xsimd batches).
 #define PLUME_BENCH_XSIMD_UNARY(FN, T, D)                                                          \
-  benchmark::RegisterBenchmark(name(#FN, type_name<T>(), "xsimd", plume::lanes_v<T>).c_str(),     \
-                               [](benchmark::State& st) {                                          \
-                                 unary<T>(st, D, [](T v) { return xsimd::FN(v); });                \
-                               })
+  benchmark::RegisterBenchmark(                                                                    \
+      name(#FN, type_name<T>(), "xsimd", plume::lanes_v<T>).c_str(),                               \
+      [](benchmark::State& st) { unary<T>(st, D, [](T v) { return xsimd::FN(v); }); })
 #define PLUME_BENCH_XSIMD_BINARY(FN, T, DX, DY)                                                    \
-  benchmark::RegisterBenchmark(name(#FN, type_name<T>(), "xsimd", plume::lanes_v<T>).c_str(),     \
+  benchmark::RegisterBenchmark(name(#FN, type_name<T>(), "xsimd", plume::lanes_v<T>).c_str(),      \
                                [](benchmark::State& st) {                                          \
                                  binary<T>(st, DX, DY, [](T a, T b) { return xsimd::FN(a, b); });  \
                                })
@@ -214,15 +212,14 @@ void register_xsimd_width() {
 // SLEEF's vector functions take and return the raw registers, which xsimd batches convert
 // to and from.
 #define PLUME_BENCH_SLEEF_UNARY(FN, T, SLEEF_FN, D)                                                \
-  benchmark::RegisterBenchmark(name(#FN, type_name<T>(), "sleef", plume::lanes_v<T>).c_str(),     \
-                               [](benchmark::State& st) {                                          \
-                                 unary<T>(st, D, [](T v) { return T(SLEEF_FN(v)); });              \
-                               })
+  benchmark::RegisterBenchmark(                                                                    \
+      name(#FN, type_name<T>(), "sleef", plume::lanes_v<T>).c_str(),                               \
+      [](benchmark::State& st) { unary<T>(st, D, [](T v) { return T(SLEEF_FN(v)); }); })
 #define PLUME_BENCH_SLEEF_BINARY(FN, T, SLEEF_FN, DX, DY)                                          \
-  benchmark::RegisterBenchmark(name(#FN, type_name<T>(), "sleef", plume::lanes_v<T>).c_str(),     \
-                               [](benchmark::State& st) {                                          \
-                                 binary<T>(st, DX, DY, [](T a, T b) { return T(SLEEF_FN(a, b)); });\
-                               })
+  benchmark::RegisterBenchmark(                                                                    \
+      name(#FN, type_name<T>(), "sleef", plume::lanes_v<T>).c_str(), [](benchmark::State& st) {    \
+        binary<T>(st, DX, DY, [](T a, T b) { return T(SLEEF_FN(a, b)); });                         \
+      })
 #define PLUME_BENCH_SLEEF_ALL(T, F, D4)                                                            \
   PLUME_BENCH_SLEEF_UNARY(sin, T, Sleef_sin##F##_u10, angles);                                     \
   PLUME_BENCH_SLEEF_UNARY(cos, T, Sleef_cos##F##_u10, angles);                                     \
@@ -254,16 +251,25 @@ void register_peers_scalar() {
   auto reg = [&](char const* fn, auto body) {
     benchmark::RegisterBenchmark(name(fn, ty, "eigen", w).c_str(), body);
   };
-  reg("sin", [](benchmark::State& st) { eigen_unary<S>(st, angles, [](M const& x) { return x.sin(); }); });
-  reg("cos", [](benchmark::State& st) { eigen_unary<S>(st, angles, [](M const& x) { return x.cos(); }); });
-  reg("tan", [](benchmark::State& st) { eigen_unary<S>(st, angles, [](M const& x) { return x.tan(); }); });
-  reg("asin", [](benchmark::State& st) { eigen_unary<S>(st, unit, [](M const& x) { return x.asin(); }); });
-  reg("exp", [](benchmark::State& st) { eigen_unary<S>(st, exps, [](M const& x) { return x.exp(); }); });
-  reg("log", [](benchmark::State& st) { eigen_unary<S>(st, positive, [](M const& x) { return x.log(); }); });
+  reg("sin",
+      [](benchmark::State& st) { eigen_unary<S>(st, angles, [](M const& x) { return x.sin(); }); });
+  reg("cos",
+      [](benchmark::State& st) { eigen_unary<S>(st, angles, [](M const& x) { return x.cos(); }); });
+  reg("tan",
+      [](benchmark::State& st) { eigen_unary<S>(st, angles, [](M const& x) { return x.tan(); }); });
+  reg("asin",
+      [](benchmark::State& st) { eigen_unary<S>(st, unit, [](M const& x) { return x.asin(); }); });
+  reg("exp",
+      [](benchmark::State& st) { eigen_unary<S>(st, exps, [](M const& x) { return x.exp(); }); });
+  reg("log", [](benchmark::State& st) {
+    eigen_unary<S>(st, positive, [](M const& x) { return x.log(); });
+  });
   reg("pow", [](benchmark::State& st) {
     eigen_binary<S>(st, bases, powers, [](M const& x, M const& y) { return x.pow(y); });
   });
-  reg("sqrt", [](benchmark::State& st) { eigen_unary<S>(st, positive, [](M const& x) { return x.sqrt(); }); });
+  reg("sqrt", [](benchmark::State& st) {
+    eigen_unary<S>(st, positive, [](M const& x) { return x.sqrt(); });
+  });
 }
 
 void register_all() {

@@ -65,6 +65,20 @@
 #error "PLUME_SIMD=avx512 but the compiler flags do not enable AVX-512 F/CD/DQ/BW"
 #endif
 
+// Generic code combines masks with & | ^ (branch-free, both sides evaluated). For scalar
+// `bool` masks clang 14 warns about that (-Wbitwise-instead-of-logical); plume's headers
+// wrap their code in PLUME_MASK_CODE_BEGIN / _END, which silences it for plume's own code
+// only (clang's diagnostic pragmas follow source locations, also for templates).
+#if defined(__clang__)
+#define PLUME_MASK_CODE_BEGIN                                                                      \
+  _Pragma("clang diagnostic push")                                                                 \
+      _Pragma("clang diagnostic ignored \"-Wbitwise-instead-of-logical\"")
+#define PLUME_MASK_CODE_END _Pragma("clang diagnostic pop")
+#else
+#define PLUME_MASK_CODE_BEGIN
+#define PLUME_MASK_CODE_END
+#endif
+
 #if defined(__GNUC__)
 #define PLUME_INLINE inline __attribute__((always_inline))
 #define PLUME_NOINLINE __attribute__((noinline))

@@ -32,13 +32,50 @@ bool same_bits(S a, S b) {
 template <class S>
 std::vector<S> adversarial() {
   using L = std::numeric_limits<S>;
-  std::vector<S> v = {S(0), -S(0), L::denorm_min(), -L::denorm_min(), L::min(), -L::min(),
-                      L::max(), L::lowest(), L::infinity(), -L::infinity(), L::quiet_NaN(),
-                      -L::quiet_NaN(), L::epsilon(), S(1), S(-1), S(0.5), S(-0.5), S(1.5), S(2.5),
-                      S(-2.5), S(1e-30), S(-1e-30), S(1e30), S(-1e30), S(3.14159265358979),
-                      S(1.5707963267948966), S(-1.5707963267948966), S(8000), S(8001), S(1e8),
-                      S(2e8), S(88.7), S(-103.9), S(709.7), S(-745.1), S(0.9999999), S(1.0000001),
-                      S(16777216), S(16777217), S(4503599627370496.0), S(1e22), S(-1e15), S(2), S(3)};
+  std::vector<S> v = {S(0),
+                      -S(0),
+                      L::denorm_min(),
+                      -L::denorm_min(),
+                      L::min(),
+                      -L::min(),
+                      L::max(),
+                      L::lowest(),
+                      L::infinity(),
+                      -L::infinity(),
+                      L::quiet_NaN(),
+                      -L::quiet_NaN(),
+                      L::epsilon(),
+                      S(1),
+                      S(-1),
+                      S(0.5),
+                      S(-0.5),
+                      S(1.5),
+                      S(2.5),
+                      S(-2.5),
+                      S(1e-30),
+                      S(-1e-30),
+                      S(1e30),
+                      S(-1e30),
+                      S(3.14159265358979),
+                      S(1.5707963267948966),
+                      S(-1.5707963267948966),
+                      S(8000),
+                      S(8001),
+                      S(1e8),
+                      S(2e8),
+                      S(88.7),
+                      S(-103.9),
+                      S(709.7),
+                      S(-745.1),
+                      S(0.9999999),
+                      S(1.0000001),
+                      S(16777216),
+                      S(16777217),
+                      S(4503599627370496.0),
+                      S(1e22),
+                      S(-1e15),
+                      S(2),
+                      S(3)};
   return v;
 }
 
@@ -60,7 +97,8 @@ std::vector<S> random_values(std::size_t n, std::uint32_t seed, double max_log10
 template <class T>
 T make_lanes(std::vector<scalar_t<T>> const& pool, std::size_t start) {
   std::array<scalar_t<T>, lanes_v<T>> a;
-  for (std::size_t i = 0; i < lanes_v<T>; ++i) a[i] = pool[(start + i * 7) % pool.size()];
+  for (std::size_t i = 0; i < lanes_v<T>; ++i)
+    a[i] = pool[(start + i * 7) % pool.size()];
   return from_array<T>(a);
 }
 
@@ -79,8 +117,8 @@ void check_lane_exact(char const* name, F f, std::vector<scalar_t<T>> inputs) {
       S const xi = lane(x, i);
       auto const want = f(xi);
       if (!same_bits(out[i], want) && failures++ < 5) {
-        FAIL_CHECK(name << ": lane " << i << " of " << lanes_v<T> << " for x = " << xi
-                        << " gives " << out[i] << ", scalar gives " << want);
+        FAIL_CHECK(name << ": lane " << i << " of " << lanes_v<T> << " for x = " << xi << " gives "
+                        << out[i] << ", scalar gives " << want);
       }
     }
   }
@@ -89,7 +127,8 @@ void check_lane_exact(char const* name, F f, std::vector<scalar_t<T>> inputs) {
 
 /// Binary version: pairs (x[k], y[k]) with neighbours from other pairs.
 template <class T, class F>
-void check_lane_exact2(char const* name, F f, std::vector<scalar_t<T>> xs, std::vector<scalar_t<T>> ys) {
+void check_lane_exact2(char const* name, F f, std::vector<scalar_t<T>> xs,
+                       std::vector<scalar_t<T>> ys) {
   using S = scalar_t<T>;
   auto const adv = adversarial<S>();
   for (S a : adv)

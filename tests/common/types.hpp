@@ -10,13 +10,16 @@ namespace plume::test {
 
 using real_types = std::tuple<float, double
 #if PLUME_HAS_BATCHES
-                              , f32x4, f64x2
+                              ,
+                              f32x4, f64x2
 #endif
 #if PLUME_HAS_AVX2
-                              , f32x8, f64x4
+                              ,
+                              f32x8, f64x4
 #endif
 #if PLUME_HAS_AVX512
-                              , f32x16, f64x8
+                              ,
+                              f32x16, f64x8
 #endif
                               >;
 
@@ -25,22 +28,27 @@ using wide_real_types = std::tuple<
     f32x4, f64x2
 #endif
 #if PLUME_HAS_AVX2
-    , f32x8, f64x4
+    ,
+    f32x8, f64x4
 #endif
 #if PLUME_HAS_AVX512
-    , f32x16, f64x8
+    ,
+    f32x16, f64x8
 #endif
     >;
 
 using int_types = std::tuple<std::int32_t, std::uint32_t
 #if PLUME_HAS_BATCHES
-                             , i32x4, u32x4
+                             ,
+                             i32x4, u32x4
 #endif
 #if PLUME_HAS_AVX2
-                             , i32x8, u32x8
+                             ,
+                             i32x8, u32x8
 #endif
 #if PLUME_HAS_AVX512
-                             , i32x16, u32x16
+                             ,
+                             i32x16, u32x16
 #endif
                              >;
 

@@ -1,11 +1,23 @@
-// Uses plume as a user project would; exits 0 when the numbers are right.
+// Uses plume as a user project would (and runs the README's tour example); exits 0 when the
+// numbers are right.
 #include <plume/plume.hpp>
 
 #include <cstdio>
+
+template <plume::Real T>
+T bounce_height(T x, T height) {
+  T const s = plume::sin(x) * height;
+  return plume::select(s < T(0), -s, s);
+}
 
 int main() {
   float const s = plume::sin(plume::frac_pi_2<float>());
   double const l = plume::log2(1024.0);
   std::printf("consumer: sin(pi/2) = %g, log2(1024) = %g, build %s\n", s, l, plume::simd_name);
-  return (s == 1.0f && l == 10.0) ? 0 : 1;
+  float const one = bounce_height(4.0f, 2.0f);
+  plume::f32xN const many = bounce_height(plume::f32xN(4.0f), plume::f32xN(2.0f));
+  bool lanes_equal = true;
+  for (std::size_t i = 0; i < plume::lanes_v<plume::f32xN>; ++i)
+    lanes_equal = lanes_equal && plume::lane(many, i) == one;
+  return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f) ? 0 : 1;
 }

@@ -37,9 +37,12 @@ struct fnv {
   template <class S>
   void add(S v) {
     std::uint64_t b;
-    if (v != v) b = 0x7ff8dead; // any NaN
-    else if constexpr (sizeof(S) == 4) b = std::bit_cast<std::uint32_t>(v);
-    else b = std::bit_cast<std::uint64_t>(v);
+    if (v != v)
+      b = 0x7ff8dead; // any NaN
+    else if constexpr (sizeof(S) == 4)
+      b = std::bit_cast<std::uint32_t>(v);
+    else
+      b = std::bit_cast<std::uint64_t>(v);
     for (int i = 0; i < 8; ++i) {
       h ^= (b >> (8 * i)) & 0xff;
       h *= 1099511628211ull;
@@ -56,15 +59,19 @@ std::vector<S> inputs(double scale) {
     s ^= s >> 7;
     s ^= s << 17;
     double const u = double(s >> 11) * 0x1.0p-53; // [0, 1)
-    double const x = (i % 3 == 0) ? (u - 0.5) * 2 * scale : std::ldexp(u + 0.5, int(s % 200) - 100) * ((s >> 40) & 1 ? 1 : -1);
+    double const x = (i % 3 == 0)
+                         ? (u - 0.5) * 2 * scale
+                         : std::ldexp(u + 0.5, int(s % 200) - 100) * ((s >> 40) & 1 ? 1 : -1);
     v.push_back(static_cast<S>(x));
   }
-  for (double a : {0.0, -0.0, 1.0, -1.0, 0.5, 1e30, -1e30, 1e-40, 3.0e38, 1e300, 1e22, 8001.0, 2e8}) v.push_back(static_cast<S>(a));
+  for (double a : {0.0, -0.0, 1.0, -1.0, 0.5, 1e30, -1e30, 1e-40, 3.0e38, 1e300, 1e22, 8001.0, 2e8})
+    v.push_back(static_cast<S>(a));
   v.push_back(std::numeric_limits<S>::infinity());
   v.push_back(-std::numeric_limits<S>::infinity());
   v.push_back(std::numeric_limits<S>::quiet_NaN());
   v.push_back(std::numeric_limits<S>::denorm_min());
-  while (v.size() % 16) v.push_back(S(0.25));
+  while (v.size() % 16)
+    v.push_back(S(0.25));
   return v;
 }
 
@@ -72,14 +79,16 @@ template <class T, class F>
 void run_unary(fnv& h, std::vector<scalar_t<T>> const& in, F f) {
   for (std::size_t i = 0; i < in.size(); i += lanes_v<T>) {
     auto const out = to_array(f(load<T>(in.data() + i)));
-    for (auto o : out) h.add(o);
+    for (auto o : out)
+      h.add(o);
   }
 }
 template <class T, class F>
 void run_binary(fnv& h, std::vector<scalar_t<T>> const& a, std::vector<scalar_t<T>> const& b, F f) {
   for (std::size_t i = 0; i < a.size(); i += lanes_v<T>) {
     auto const out = to_array(f(load<T>(a.data() + i), load<T>(b.data() + i)));
-    for (auto o : out) h.add(o);
+    for (auto o : out)
+      h.add(o);
   }
 }
 
@@ -89,12 +98,39 @@ std::uint64_t numerics_battery() {
   fnv h;
   auto const x = inputs<S>(10), y = inputs<S>(3);
   std::vector<S> y2(y.rbegin(), y.rend());
-#define U(fn) run_unary<T>(h, x, [](auto v) { return plume::fn(v); }); run_unary<T>(h, y, [](auto v) { return plume::fn(v); })
+#define U(fn)                                                                                      \
+  run_unary<T>(h, x, [](auto v) { return plume::fn(v); });                                         \
+  run_unary<T>(h, y, [](auto v) { return plume::fn(v); })
 #define B(fn) run_binary<T>(h, x, y2, [](auto a, auto b) { return plume::fn(a, b); })
-  U(sin); U(cos); U(tan); U(asin); U(acos); U(atan); U(exp); U(exp2); U(expm1); U(log); U(log2);
-  U(log1p); U(sqrt); U(floor); U(ceil); U(round); U(round_ties_even); U(trunc); U(fract); U(abs);
-  U(signum); U(recip);
-  B(atan2); B(pow); B(min); B(max); B(hypot); B(copysign); B(mul_add_self);
+  U(sin);
+  U(cos);
+  U(tan);
+  U(asin);
+  U(acos);
+  U(atan);
+  U(exp);
+  U(exp2);
+  U(expm1);
+  U(log);
+  U(log2);
+  U(log1p);
+  U(sqrt);
+  U(floor);
+  U(ceil);
+  U(round);
+  U(round_ties_even);
+  U(trunc);
+  U(fract);
+  U(abs);
+  U(signum);
+  U(recip);
+  B(atan2);
+  B(pow);
+  B(min);
+  B(max);
+  B(hypot);
+  B(copysign);
+  B(mul_add_self);
 #undef U
 #undef B
   return h.h;
@@ -105,11 +141,14 @@ std::uint64_t numerics_battery() {
 int main(int argc, char** argv) {
   std::map<std::string, std::uint64_t> got;
   bool lanes_ok = true;
-  auto record = [&](char const* name, std::uint64_t scalar_hash, std::initializer_list<std::uint64_t> wide) {
+  auto record = [&](char const* name, std::uint64_t scalar_hash,
+                    std::initializer_list<std::uint64_t> wide) {
     got[name] = scalar_hash;
     for (auto w : wide)
       if (w != scalar_hash) {
-        std::printf("LANE MISMATCH in %s: a wide type hashes %016" PRIx64 ", scalar %016" PRIx64 "\n", name, w, scalar_hash);
+        std::printf("LANE MISMATCH in %s: a wide type hashes %016" PRIx64 ", scalar %016" PRIx64
+                    "\n",
+                    name, w, scalar_hash);
         lanes_ok = false;
       }
   };
@@ -118,10 +157,10 @@ int main(int argc, char** argv) {
     numerics_battery<f32x4>(),
 #endif
 #if PLUME_HAS_AVX2
-    numerics_battery<f32x8>(),
+        numerics_battery<f32x8>(),
 #endif
 #if PLUME_HAS_AVX512
-    numerics_battery<f32x16>(),
+        numerics_battery<f32x16>(),
 #endif
   });
   record("numerics_f64", numerics_battery<double>(), {
@@ -129,10 +168,10 @@ int main(int argc, char** argv) {
     numerics_battery<f64x2>(),
 #endif
 #if PLUME_HAS_AVX2
-    numerics_battery<f64x4>(),
+        numerics_battery<f64x4>(),
 #endif
 #if PLUME_HAS_AVX512
-    numerics_battery<f64x8>(),
+        numerics_battery<f64x8>(),
 #endif
   });
   if (argc == 3 && !std::strcmp(argv[1], "--check")) {
@@ -144,8 +183,8 @@ int main(int argc, char** argv) {
       auto const it = got.find(name);
       std::uint64_t const want = std::stoull(hex, nullptr, 16);
       if (it == got.end()) continue;
-      std::printf("%-14s %016" PRIx64 " %s (golden %016" PRIx64 ", build %s)\n", name.c_str(), it->second,
-                  it->second == want ? "OK" : "DIFFERS", want, plume::simd_name);
+      std::printf("%-14s %016" PRIx64 " %s (golden %016" PRIx64 ", build %s)\n", name.c_str(),
+                  it->second, it->second == want ? "OK" : "DIFFERS", want, plume::simd_name);
       if (it->second != want) bad = 1;
     }
     if (seen == 0) {
@@ -154,6 +193,7 @@ int main(int argc, char** argv) {
     }
     return bad;
   }
-  for (auto const& [name, hash] : got) std::printf("%s %016" PRIx64 "\n", name.c_str(), hash);
+  for (auto const& [name, hash] : got)
+    std::printf("%s %016" PRIx64 "\n", name.c_str(), hash);
   return lanes_ok ? 0 : 1;
 }

@@ -32,22 +32,26 @@ TEMPLATE_LIST_TEST_CASE("rounding and sign functions match the C library bit for
   auto values = test::random_values<S>(4000, 11, 9);
   auto const adv = test::adversarial<S>();
   values.insert(values.end(), adv.begin(), adv.end());
-  for (S v : {S(0.49999997), S(-0.49999997), S(0.5), S(1.5), S(2.5), S(-2.5), S(-0.3), S(8388607.5), S(4503599627370495.5)})
+  for (S v : {S(0.49999997), S(-0.49999997), S(0.5), S(1.5), S(2.5), S(-2.5), S(-0.3), S(8388607.5),
+              S(4503599627370495.5)})
     values.push_back(v);
   for (S x : values) {
     expect_all_lanes<T>([](auto v) { return plume::floor(v); }, x, std::floor(x), "floor");
     expect_all_lanes<T>([](auto v) { return plume::ceil(v); }, x, std::ceil(x), "ceil");
     expect_all_lanes<T>([](auto v) { return plume::trunc(v); }, x, std::trunc(x), "trunc");
     expect_all_lanes<T>([](auto v) { return plume::round(v); }, x, std::round(x), "round");
-    expect_all_lanes<T>([](auto v) { return plume::round_ties_even(v); }, x, std::nearbyint(x), "round_ties_even");
+    expect_all_lanes<T>([](auto v) { return plume::round_ties_even(v); }, x, std::nearbyint(x),
+                        "round_ties_even");
     expect_all_lanes<T>([](auto v) { return plume::abs(v); }, x, std::fabs(x), "abs");
     expect_all_lanes<T>([](auto v) { return plume::sqrt(v); }, x, std::sqrt(x), "sqrt");
     expect_all_lanes<T>([](auto v) { return plume::fract(v); }, x, x - std::trunc(x), "fract");
     expect_all_lanes<T>([](auto v) { return plume::recip(v); }, x, S(1) / x, "recip");
     S const sg = std::isnan(x) ? x : std::copysign(S(1), x);
     expect_all_lanes<T>([](auto v) { return plume::signum(v); }, x, sg, "signum");
-    expect_all_lanes<T>([](auto v) { return plume::copysign(splat<decltype(v)>(3), v); }, x, std::copysign(S(3), x), "copysign");
-    CHECK(plume::bitmask(plume::is_nan(splat<T>(x))) == (std::isnan(x) ? (std::uint64_t(1) << lanes_v<T>) - 1 : 0u));
+    expect_all_lanes<T>([](auto v) { return plume::copysign(splat<decltype(v)>(3), v); }, x,
+                        std::copysign(S(3), x), "copysign");
+    CHECK(plume::bitmask(plume::is_nan(splat<T>(x))) ==
+          (std::isnan(x) ? (std::uint64_t(1) << lanes_v<T>)-1 : 0u));
     CHECK(plume::all(plume::is_finite(splat<T>(x))) == std::isfinite(x));
     CHECK(plume::all(plume::is_infinite(splat<T>(x))) == std::isinf(x));
     CHECK(plume::all(plume::is_sign_negative(splat<T>(x))) == std::signbit(x));
@@ -78,13 +82,21 @@ TEMPLATE_LIST_TEST_CASE("min and max: IEEE 754-2019 minimum/maximum in every pat
   }
   expect_all_lanes2<T>(mn, -inf, S(3), -inf, "min");
   expect_all_lanes2<T>(mx, -inf, inf, inf, "max");
-  auto cl = [](auto x) { using V = decltype(x); return plume::clamp(x, splat<V>(-1), splat<V>(1)); };
+  auto cl = [](auto x) {
+    using V = decltype(x);
+    return plume::clamp(x, splat<V>(-1), splat<V>(1));
+  };
   expect_all_lanes<T>(cl, S(5), S(1), "clamp");
   expect_all_lanes<T>(cl, S(-5), S(-1), "clamp");
   expect_all_lanes<T>(cl, S(0.25), S(0.25), "clamp");
   expect_all_lanes<T>(cl, nan, nan, "clamp");
   // lo > hi gives hi
-  expect_all_lanes<T>([](auto x) { using V = decltype(x); return plume::clamp(x, splat<V>(2), splat<V>(1)); }, S(0), S(1), "clamp");
+  expect_all_lanes<T>(
+      [](auto x) {
+        using V = decltype(x);
+        return plume::clamp(x, splat<V>(2), splat<V>(1));
+      },
+      S(0), S(1), "clamp");
 }
 
 TEMPLATE_LIST_TEST_CASE("mul_add, lerp and hypot", "[numerics][functions]", test::real_types) {
@@ -108,17 +120,21 @@ TEMPLATE_LIST_TEST_CASE("mul_add, lerp and hypot", "[numerics][functions]", test
   expect_all_lanes2<T>(hy, nan, S(1), nan, "hypot");
   // No overflow or underflow of the squares.
   S const big = std::numeric_limits<S>::max() / 2;
-  CHECK(lane(plume::hypot(splat<T>(big), splat<T>(big)), 0) == Approx(big * std::sqrt(2.0)).epsilon(1e-6));
+  CHECK(lane(plume::hypot(splat<T>(big), splat<T>(big)), 0) ==
+        Approx(big * std::sqrt(2.0)).epsilon(1e-6));
   S const tiny = std::numeric_limits<S>::denorm_min() * 3;
   CHECK(lane(plume::hypot(splat<T>(tiny), splat<T>(tiny * 4 / 3)), 0) > 0);
   // Accuracy against long double on random pairs.
   test::ulp_report rep;
   auto const xs = test::random_values<S>(20000, 5), ys = test::random_values<S>(20000, 6);
   for (std::size_t i = 0; i < xs.size(); ++i) {
-    long double const want_h = std::hypot(static_cast<long double>(xs[i]), static_cast<long double>(ys[i]));
-    rep.add(test::ulp_error(lane(plume::hypot(splat<T>(xs[i]), splat<T>(ys[i])), 0), want_h), xs[i], ys[i]);
+    long double const want_h =
+        std::hypot(static_cast<long double>(xs[i]), static_cast<long double>(ys[i]));
+    rep.add(test::ulp_error(lane(plume::hypot(splat<T>(xs[i]), splat<T>(ys[i])), 0), want_h), xs[i],
+            ys[i]);
   }
-  INFO("hypot max error " << double(rep.max_ulp) << " ulp at (" << double(rep.at_x) << ", " << double(rep.at_y) << ")");
+  INFO("hypot max error " << double(rep.max_ulp) << " ulp at (" << double(rep.at_x) << ", "
+                          << double(rep.at_y) << ")");
   CHECK(rep.max_ulp <= 1.0L);
 }
 

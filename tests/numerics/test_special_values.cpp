@@ -9,13 +9,15 @@ template <class T, class F>
 void expect1(char const* name, F f, scalar_t<T> x, scalar_t<T> want) {
   auto const out = to_array(f(splat<T>(x)));
   INFO(name << "(" << x << ") = " << out[0] << ", expected " << want);
-  for (auto o : out) CHECK(test::same_bits(o, want));
+  for (auto o : out)
+    CHECK(test::same_bits(o, want));
 }
 template <class T, class F>
 void expect2(char const* name, F f, scalar_t<T> x, scalar_t<T> y, scalar_t<T> want) {
   auto const out = to_array(f(splat<T>(x), splat<T>(y)));
   INFO(name << "(" << x << ", " << y << ") = " << out[0] << ", expected " << want);
-  for (auto o : out) CHECK(test::same_bits(o, want));
+  for (auto o : out)
+    CHECK(test::same_bits(o, want));
 }
 } // namespace
 
@@ -72,7 +74,8 @@ TEMPLATE_LIST_TEST_CASE("special values of the transcendental functions", "[nume
   expect1<T>("log", F1(log), -inf, nan);
   expect1<T>("log2", F1(log2), S(8), S(3));
   expect1<T>("log2", F1(log2), S(0.25), S(-2));
-  expect1<T>("log2", F1(log2), std::numeric_limits<S>::denorm_min(), S(std::numeric_limits<S>::min_exponent - std::numeric_limits<S>::digits));
+  expect1<T>("log2", F1(log2), std::numeric_limits<S>::denorm_min(),
+             S(std::numeric_limits<S>::min_exponent - std::numeric_limits<S>::digits));
   expect1<T>("log1p", F1(log1p), S(-1), -inf);
   expect1<T>("log1p", F1(log1p), S(-2), nan);
   expect1<T>("log1p", F1(log1p), inf, inf);

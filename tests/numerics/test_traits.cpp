@@ -7,18 +7,21 @@ using namespace plume;
 // Which types satisfy which concept (the table of DESIGN.md).
 static_assert(Num<float> && Signed<float> && Real<float> && Float<float> && ScalarReal<float>);
 static_assert(Float<double> && ScalarReal<double> && !WideReal<double>);
-static_assert(Num<std::int32_t> && Signed<std::int32_t> && Int<std::int32_t> && !Real<std::int32_t>);
+static_assert(Num<std::int32_t> && Signed<std::int32_t> && Int<std::int32_t> &&
+              !Real<std::int32_t>);
 static_assert(Num<std::uint32_t> && Int<std::uint32_t> && !Signed<std::uint32_t>);
 static_assert(Mask<bool> && !Num<bool> && !Real<bool>);
 static_assert(lanes_v<float> == 1 && std::is_same_v<mask_t<float>, bool>);
-static_assert(std::is_same_v<bits_t<double>, std::uint64_t> && std::is_same_v<scalar_t<double>, double>);
+static_assert(std::is_same_v<bits_t<double>, std::uint64_t> &&
+              std::is_same_v<scalar_t<double>, double>);
 #if PLUME_HAS_BATCHES
 static_assert(Float<f32x4> && WideReal<f32x4> && !ScalarReal<f32x4>);
 static_assert(Float<f64x2> && lanes_v<f64x2> == 2 && lanes_v<f32x4> == 4);
 static_assert(Int<i32x4> && Signed<i32x4> && !Real<i32x4>);
 static_assert(Int<u32x4> && !Signed<u32x4>);
 static_assert(Mask<mask_t<f32x4>> && !Num<mask_t<f32x4>>);
-static_assert(std::is_same_v<scalar_t<f32x4>, float> && std::is_same_v<bits_t<f32x4>, xsimd::batch<std::uint32_t, arch_128>>);
+static_assert(std::is_same_v<scalar_t<f32x4>, float> &&
+              std::is_same_v<bits_t<f32x4>, xsimd::batch<std::uint32_t, arch_128>>);
 #endif
 #if PLUME_HAS_AVX2
 static_assert(lanes_v<f32x8> == 8 && lanes_v<f64x4> == 4 && WideReal<f64x4>);
@@ -32,27 +35,35 @@ TEMPLATE_LIST_TEST_CASE("splat, lane, with_lane, arrays", "[numerics][traits]", 
   using T = TestType;
   using S = scalar_t<T>;
   T x = splat<T>(2.5);
-  for (std::size_t i = 0; i < lanes_v<T>; ++i) CHECK(lane(x, i) == S(2.5));
-  for (std::size_t i = 0; i < lanes_v<T>; ++i) x = with_lane(x, i, S(i) * 3);
+  for (std::size_t i = 0; i < lanes_v<T>; ++i)
+    CHECK(lane(x, i) == S(2.5));
+  for (std::size_t i = 0; i < lanes_v<T>; ++i)
+    x = with_lane(x, i, S(i) * 3);
   auto const a = to_array(x);
-  for (std::size_t i = 0; i < lanes_v<T>; ++i) CHECK(a[i] == S(i) * 3);
+  for (std::size_t i = 0; i < lanes_v<T>; ++i)
+    CHECK(a[i] == S(i) * 3);
   CHECK(test::same_bits(lane(from_array<T>(a), lanes_v<T> - 1), S(lanes_v<T> - 1) * 3));
 }
 
-TEMPLATE_LIST_TEST_CASE("loads and stores, full and partial", "[numerics][memory]", test::real_types) {
+TEMPLATE_LIST_TEST_CASE("loads and stores, full and partial", "[numerics][memory]",
+                        test::real_types) {
   using T = TestType;
   using S = scalar_t<T>;
   alignas(64) S src[lanes_v<T> + 1];
-  for (std::size_t i = 0; i <= lanes_v<T>; ++i) src[i] = S(i + 1);
+  for (std::size_t i = 0; i <= lanes_v<T>; ++i)
+    src[i] = S(i + 1);
   CHECK(lane(load_aligned<T>(src), 0) == S(1));
   CHECK(lane(load<T>(src + 1), lanes_v<T> - 1) == S(lanes_v<T> + 1));
   for (std::size_t n = 0; n <= lanes_v<T>; ++n) {
     T const p = load_partial<T>(src, n);
-    for (std::size_t i = 0; i < lanes_v<T>; ++i) CHECK(lane(p, i) == (i < n ? S(i + 1) : S(0)));
+    for (std::size_t i = 0; i < lanes_v<T>; ++i)
+      CHECK(lane(p, i) == (i < n ? S(i + 1) : S(0)));
     S dst[lanes_v<T> + 1];
-    for (auto& d : dst) d = S(-7);
+    for (auto& d : dst)
+      d = S(-7);
     store_partial(dst, splat<T>(9), n);
-    for (std::size_t i = 0; i <= lanes_v<T>; ++i) CHECK(dst[i] == (i < n ? S(9) : S(-7)));
+    for (std::size_t i = 0; i <= lanes_v<T>; ++i)
+      CHECK(dst[i] == (i < n ? S(9) : S(-7)));
   }
   alignas(64) S out[lanes_v<T>];
   store_aligned(out, splat<T>(4));
@@ -65,10 +76,11 @@ TEMPLATE_LIST_TEST_CASE("masks: operators, scalar-left comparisons, any/all/none
   using T = TestType;
   using S = scalar_t<T>;
   T x = zero<T>();
-  for (std::size_t i = 0; i < lanes_v<T>; ++i) x = with_lane(x, i, S(i));
+  for (std::size_t i = 0; i < lanes_v<T>; ++i)
+    x = with_lane(x, i, S(i));
   mask_t<T> const lt = S(0.5) < x; // scalar on the left
   mask_t<T> const gt = x > S(0.5);
-  std::uint64_t const want = lanes_v<T> == 1 ? 0 : ((std::uint64_t(1) << lanes_v<T>) - 2);
+  std::uint64_t const want = lanes_v<T> == 1 ? 0 : ((std::uint64_t(1) << lanes_v<T>)-2);
   CHECK(plume::bitmask(lt) == want);
   CHECK(plume::bitmask(gt) == want);
   CHECK(plume::bitmask(S(0) == x) == 1u);
@@ -135,15 +147,18 @@ TEMPLATE_LIST_TEST_CASE("reductions have a fixed order", "[numerics][reduce]", t
   using S = scalar_t<T>;
   T x = zero<T>();
   // Values whose sum depends on the order: big, tiny, -big, ...
-  for (std::size_t i = 0; i < lanes_v<T>; ++i) x = with_lane(x, i, S((i % 2) ? 1e-3 : 1e7) * S(i % 4 < 2 ? 1 : -1) + S(i));
+  for (std::size_t i = 0; i < lanes_v<T>; ++i)
+    x = with_lane(x, i, S((i % 2) ? 1e-3 : 1e7) * S(i % 4 < 2 ? 1 : -1) + S(i));
   auto const a = to_array(x);
   // The documented order: upper half onto lower half, repeatedly.
   std::vector<S> v(a.begin(), a.end());
   for (std::size_t n = v.size() / 2; n >= 1; n /= 2)
-    for (std::size_t i = 0; i < n; ++i) v[i] = v[i] + v[i + n];
+    for (std::size_t i = 0; i < n; ++i)
+      v[i] = v[i] + v[i + n];
   CHECK(test::same_bits(plume::reduce_add(x), v[0]));
   CHECK(plume::reduce_min(x) == *std::min_element(a.begin(), a.end()));
   CHECK(plume::reduce_max(x) == *std::max_element(a.begin(), a.end()));
-  CHECK(std::isnan(plume::reduce_min(with_lane(x, lanes_v<T> - 1, std::numeric_limits<S>::quiet_NaN()))));
+  CHECK(std::isnan(
+      plume::reduce_min(with_lane(x, lanes_v<T> - 1, std::numeric_limits<S>::quiet_NaN()))));
   CHECK(std::isnan(plume::reduce_max(with_lane(x, 0, std::numeric_limits<S>::quiet_NaN()))));
 }

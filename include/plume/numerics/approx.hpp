@@ -14,6 +14,8 @@
 
 #include <immintrin.h>
 
+PLUME_MASK_CODE_BEGIN
+
 namespace plume {
 
 template <Float T>
@@ -60,3 +62,5 @@ PLUME_INLINE T rsqrt_approx(T x) noexcept {
 }
 
 } // namespace plume
+
+PLUME_MASK_CODE_END

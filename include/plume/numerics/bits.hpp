@@ -12,6 +12,8 @@
 
 #include <bit>
 
+PLUME_MASK_CODE_BEGIN
+
 namespace plume {
 
 template <Float T>
@@ -100,3 +102,5 @@ PLUME_INLINE mask_t<T> is_sign_negative(T x) noexcept {
 }
 
 } // namespace plume
+
+PLUME_MASK_CODE_END

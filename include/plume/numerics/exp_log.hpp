@@ -21,6 +21,8 @@
 #include <plume/numerics/detail/poly.hpp>
 #include <plume/numerics/functions.hpp>
 
+PLUME_MASK_CODE_BEGIN
+
 namespace plume {
 namespace detail {
 
@@ -220,3 +222,5 @@ PLUME_INLINE T pow(T x, T y) noexcept {
 }
 
 } // namespace plume
+
+PLUME_MASK_CODE_END

@@ -35,6 +35,8 @@
 #include <immintrin.h>
 #endif
 
+PLUME_MASK_CODE_BEGIN
+
 namespace plume {
 
 // ---------------------------------------------------------------------------------- sign
@@ -240,3 +242,5 @@ PLUME_INLINE T lerp(T a, T b, T t) noexcept {
 }
 
 } // namespace plume
+
+PLUME_MASK_CODE_END

@@ -12,6 +12,8 @@
 #include <plume/numerics/detail/poly.hpp>
 #include <plume/numerics/functions.hpp>
 
+PLUME_MASK_CODE_BEGIN
+
 namespace plume {
 
 template <Float T>
@@ -37,3 +39,5 @@ PLUME_INLINE T hypot(T x, T y) noexcept {
 }
 
 } // namespace plume
+
+PLUME_MASK_CODE_END

@@ -17,6 +17,8 @@
 #include <cstdint>
 #include <type_traits>
 
+PLUME_MASK_CODE_BEGIN
+
 namespace plume {
 
 PLUME_INLINE constexpr bool any(bool m) noexcept { return m; }
@@ -98,3 +100,5 @@ noexcept {
 #endif
 
 } // namespace plume
+
+PLUME_MASK_CODE_END

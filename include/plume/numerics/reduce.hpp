@@ -12,6 +12,8 @@
 
 #include <array>
 
+PLUME_MASK_CODE_BEGIN
+
 namespace plume {
 namespace detail {
 template <class T, class Op>
@@ -45,3 +47,5 @@ PLUME_INLINE scalar_t<T> reduce_max(T const& x) noexcept {
 }
 
 } // namespace plume
+
+PLUME_MASK_CODE_END

@@ -44,7 +44,8 @@ template <class A, class T>
 batch_bool<T, A> bitwise_xor(batch_bool<T, A> const& self, batch_bool<T, A> const& other,
                              avx512bw const&) noexcept;
 template <class A>
-batch_bool<float, A> neq(batch<float, A> const& a, batch<float, A> const& b, avx512bw const&) noexcept;
+batch_bool<float, A> neq(batch<float, A> const& a, batch<float, A> const& b,
+                         avx512bw const&) noexcept;
 template <class A>
 batch_bool<double, A> neq(batch<double, A> const& a, batch<double, A> const& b,
                           avx512bw const&) noexcept;
@@ -57,7 +58,8 @@ batch<double, A> neg(batch<double, A> const& a, avx512bw const&) noexcept;
 template <class A>
 batch_bool<float, A> neq(batch<float, A> const& a, batch<float, A> const& b, avx2 const&) noexcept;
 template <class A>
-batch_bool<double, A> neq(batch<double, A> const& a, batch<double, A> const& b, avx2 const&) noexcept;
+batch_bool<double, A> neq(batch<double, A> const& a, batch<double, A> const& b,
+                          avx2 const&) noexcept;
 #endif
 } // namespace kernel
 } // namespace xsimd
@@ -78,8 +80,8 @@ xsimd::batch_bool<float, A> xsimd::kernel::neq(batch<float, A> const& a, batch<f
   return _mm512_cmp_ps_mask(a, b, _CMP_NEQ_UQ);
 }
 template <class A>
-xsimd::batch_bool<double, A> xsimd::kernel::neq(batch<double, A> const& a, batch<double, A> const& b,
-                                                avx512bw const&) noexcept {
+xsimd::batch_bool<double, A>
+xsimd::kernel::neq(batch<double, A> const& a, batch<double, A> const& b, avx512bw const&) noexcept {
   return _mm512_cmp_pd_mask(a, b, _CMP_NEQ_UQ);
 }
 template <class A>
@@ -100,8 +102,8 @@ xsimd::batch_bool<float, A> xsimd::kernel::neq(batch<float, A> const& a, batch<f
   return _mm256_cmp_ps(a, b, _CMP_NEQ_UQ);
 }
 template <class A>
-xsimd::batch_bool<double, A> xsimd::kernel::neq(batch<double, A> const& a, batch<double, A> const& b,
-                                                avx2 const&) noexcept {
+xsimd::batch_bool<double, A> xsimd::kernel::neq(batch<double, A> const& a,
+                                                batch<double, A> const& b, avx2 const&) noexcept {
   return _mm256_cmp_pd(a, b, _CMP_NEQ_UQ);
 }
 #endif

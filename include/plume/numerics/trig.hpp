@@ -20,6 +20,8 @@
 #include <plume/numerics/detail/poly.hpp>
 #include <plume/numerics/functions.hpp>
 
+PLUME_MASK_CODE_BEGIN
+
 namespace plume {
 namespace detail {
 
@@ -109,19 +111,23 @@ PLUME_INLINE T atan_nonneg(T a, T a_lo) noexcept {
   auto const big = a > splat<T>(C::tan_3pi_8);
   auto const mid = a > splat<T>(C::tan_pi_8);
   // mid: t = (a - 1)/(a + 1); big: t = -1/a. Numerator and denominator exactly, as hi + lo.
-  dw<T> const num = two_sum(plume::select(big, -one<T>(), a), plume::select(big, zero<T>(), -one<T>()));
+  dw<T> const num =
+      two_sum(plume::select(big, -one<T>(), a), plume::select(big, zero<T>(), -one<T>()));
   dw<T> const den = two_sum(a, plume::select(big, zero<T>(), one<T>()));
   T const num_lo = plume::select(big, zero<T>(), num.lo + a_lo);
   T const den_lo = den.lo + a_lo;
   T const tq = num.hi / den.hi;
   dw<T> const pr = two_prod(tq, den.hi);
   // (big: -1/a needs no low word, and Dekker's split of a huge a would overflow)
-  T const tq_lo = plume::select(big, zero<T>(), (((num.hi - pr.hi) - pr.lo) + num_lo - tq * den_lo) / den.hi);
+  T const tq_lo =
+      plume::select(big, zero<T>(), (((num.hi - pr.hi) - pr.lo) + num_lo - tq * den_lo) / den.hi);
   auto const reduce = big | mid;
   T const t = plume::select(reduce, tq, a);
   T const t_lo = plume::select(reduce, tq_lo, a_lo);
-  T const y_hi = plume::select(big, splat<T>(C::pio2_hi), plume::select(mid, splat<T>(C::pio4_hi), zero<T>()));
-  T const y_lo = plume::select(big, splat<T>(C::pio2_lo), plume::select(mid, splat<T>(C::pio4_lo), zero<T>()));
+  T const y_hi =
+      plume::select(big, splat<T>(C::pio2_hi), plume::select(mid, splat<T>(C::pio4_hi), zero<T>()));
+  T const y_lo =
+      plume::select(big, splat<T>(C::pio2_lo), plume::select(mid, splat<T>(C::pio4_lo), zero<T>()));
   T const z = t * t;
   // atan(t + t_lo) = t + t z P(z) + t_lo / (1 + z)
   T const p = t * z * detail::horner(z, C::atan_poly) + t_lo * (one<T>() - z);
@@ -197,8 +203,7 @@ PLUME_INLINE T asin(T x) noexcept {
       pio4 - ((two<T>() * s * R - (splat<T>(C::pio2_lo) - two<T>() * c)) - (pio4 - two<T>() * f));
   // Near 1 the plain form is accurate enough and gives asin(+-1) = +-pi/2 correctly rounded
   // (the split form's three roundings can land one ulp low there).
-  T const near_one_abs =
-      splat<T>(C::pio2_hi) - (two<T>() * (s + s * R) - splat<T>(C::pio2_lo));
+  T const near_one_abs = splat<T>(C::pio2_hi) - (two<T>() * (s + s * R) - splat<T>(C::pio2_lo));
   T const big_abs = plume::select(a >= splat<T>(scalar_t<T>(0.975)), near_one_abs, mid_abs);
   return plume::select(big, plume::copysign(big_abs, x), small_res);
 }
@@ -237,10 +242,12 @@ PLUME_INLINE T atan2(T y, T x) noexcept {
   T r = num / den; // in [0, 1], with its rounding error as r_lo; 0/0 and inf/inf patched:
   detail::dw<T> const pr = detail::two_prod(r, den);
   T r_lo = ((num - pr.hi) - pr.lo) / den;
-  auto const degenerate = ((ax == zero<T>()) & (ay == zero<T>())) | plume::is_infinite(ax) | plume::is_infinite(ay);
+  auto const degenerate =
+      ((ax == zero<T>()) & (ay == zero<T>())) | plume::is_infinite(ax) | plume::is_infinite(ay);
   r = plume::select((ax == zero<T>()) & (ay == zero<T>()), zero<T>(), r);
   r = plume::select(plume::is_infinite(ax) & plume::is_infinite(ay), one<T>(), r);
-  r_lo = plume::select(degenerate | (den < splat<T>(1e-30)) | (den > splat<T>(1e30)), zero<T>(), r_lo);
+  r_lo =
+      plume::select(degenerate | (den < splat<T>(1e-30)) | (den > splat<T>(1e30)), zero<T>(), r_lo);
   T const t = detail::atan_nonneg(r, r_lo);
   // The angle is k pi/2 +- t: t (k = 0), pi/2 - t (steep), pi/2 + t (steep, x < 0),
   // pi - t (x < 0). k pi/2 is carried as hi + lo and t is added to the low word first, so
@@ -255,3 +262,5 @@ PLUME_INLINE T atan2(T y, T x) noexcept {
 }
 
 } // namespace plume
+
+PLUME_MASK_CODE_END

@@ -6,6 +6,8 @@
 
 #include <cstddef>
 
+PLUME_MASK_CODE_BEGIN
+
 namespace plume::detail {
 
 /// c[0] x^(N-1) + ... + c[N-1], Horner's scheme with mul_add.
@@ -93,3 +95,5 @@ PLUME_INLINE dw<T> dw_add(dw<T> a, dw<T> b) noexcept {
 }
 
 } // namespace plume::detail
+
+PLUME_MASK_CODE_END
