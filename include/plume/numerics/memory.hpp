@@ -33,10 +33,10 @@ PLUME_INLINE T load_aligned(scalar_t<T> const* p) noexcept {
 
 template <class T>
 PLUME_INLINE T load_partial(scalar_t<T> const* p, std::size_t n) noexcept {
-  if (n >= lanes_v<T>) return load<T>(p);
+  if (n >= lanes_v<T>) return plume::load<T>(p);
   std::array<scalar_t<T>, lanes_v<T>> a{};
   std::copy_n(p, n, a.begin());
-  return from_array<T>(a);
+  return plume::from_array<T>(a);
 }
 
 template <class T>
@@ -57,8 +57,8 @@ PLUME_INLINE void store_aligned(scalar_t<T>* p, T const& x) noexcept {
 
 template <class T>
 PLUME_INLINE void store_partial(scalar_t<T>* p, T const& x, std::size_t n) noexcept {
-  if (n >= lanes_v<T>) return store(p, x);
-  auto const a = to_array(x);
+  if (n >= lanes_v<T>) return plume::store(p, x);
+  auto const a = plume::to_array(x);
   std::copy_n(a.begin(), n, p);
 }
 

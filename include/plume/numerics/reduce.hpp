@@ -22,7 +22,7 @@ PLUME_INLINE scalar_t<T> reduce_halves(T const& x, Op op) noexcept {
     (void)op;
     return x;
   } else {
-    auto a = to_array(x);
+    auto a = plume::to_array(x);
     for (std::size_t n = lanes_v<T> / 2; n >= 1; n /= 2)
       for (std::size_t i = 0; i < n; ++i)
         a[i] = op(a[i], a[i + n]);

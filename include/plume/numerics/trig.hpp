@@ -62,15 +62,15 @@ PLUME_INLINE quadrant_reduction<T> reduce_half_pi(T x) noexcept {
     // Only the lanes that need it; the others keep the values computed above.
     for (std::size_t i = 0; i < lanes_v<T>; ++i) {
       if constexpr (is_batch_v<T>) {
-        if (!lane(huge, i)) continue;
+        if (!plume::lane(huge, i)) continue;
       }
-      huge_reduction const h = reduce_half_pi_huge(static_cast<double>(lane(x, i)));
+      huge_reduction const h = reduce_half_pi_huge(static_cast<double>(plume::lane(x, i)));
       S const h_hi = static_cast<S>(h.hi);
       S const h_lo = static_cast<S>((h.hi - static_cast<double>(h_hi)) + h.lo);
       if constexpr (is_batch_v<T>) {
-        hi = with_lane(hi, i, h_hi);
-        lo = with_lane(lo, i, h_lo);
-        qq = with_lane(qq, i, static_cast<S>(h.quadrant));
+        hi = plume::with_lane(hi, i, h_hi);
+        lo = plume::with_lane(lo, i, h_lo);
+        qq = plume::with_lane(qq, i, static_cast<S>(h.quadrant));
       } else {
         hi = h_hi;
         lo = h_lo;
