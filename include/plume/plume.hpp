@@ -2,3 +2,4 @@
 #pragma once
 
 #include <plume/numerics.hpp>
+#include <plume/math.hpp>

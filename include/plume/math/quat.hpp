@@ -1,0 +1,321 @@
+// plume/math/quat.hpp - GQuat<T>: a rotation quaternion (x, y, z, w) of any Float element type.
+//
+// Unit quaternions represent rotations; q and -q are the same rotation. q * v rotates v,
+// q1 * q2 rotates by q2 first, then q1. Angles are in radians, right-handed.
+//
+// Degenerate input (each documented result is the same for scalar and wide lanes):
+//  - from_scaled_axis(zero) = IDENTITY; to_axis_angle of (near) IDENTITY = {X, 0}.
+//  - from_rotation_arc(a, b) of opposite vectors: a half turn about a.any_orthonormal_vector().
+//  - slerp of identical quaternions: the normalised lerp (no 0/0); of opposite ones (q, -q):
+//    takes the shortest path, so the result is q at every t.
+//  - normalize() of the zero quaternion gives NaN (as glam); inverse() is the conjugate
+//    (exact for unit quaternions, which is what rotations are).
+// Euler angles: from_euler(order, a, b, c) = R(first axis, a) R(second, b) R(third, c)
+// (intrinsic rotations in the order named, glam's convention); to_euler returns a, c in
+// [-pi, pi] and b in [-pi/2, pi/2]; in gimbal lock (cos b <= 16 eps) it sets c = 0.
+#pragma once
+
+#include <plume/math/mat3.hpp>
+#include <plume/math/vec3.hpp>
+
+PLUME_MASK_CODE_BEGIN
+
+namespace plume {
+
+/// Orders of Euler angles: the axes of the three rotations, first to last.
+enum class EulerRot { XYZ, XZY, YXZ, YZX, ZXY, ZYX };
+
+template <Float T>
+struct GQuat {
+  using element_type = T;
+  using scalar_type = scalar_t<T>;
+
+  T x, y, z, w;
+
+  /// The identity rotation.
+  GQuat() noexcept
+      : x(plume::zero<T>()), y(plume::zero<T>()), z(plume::zero<T>()), w(plume::one<T>()) {}
+  GQuat(T x_, T y_, T z_, T w_) noexcept : x(x_), y(y_), z(z_), w(w_) {}
+  template <class U>
+  requires(is_batch_v<T>&& std::same_as<U, scalar_type>) explicit GQuat(GQuat<U> const& q) noexcept
+      : x(q.x), y(q.y), z(q.z), w(q.w) {}
+
+  static GQuat const IDENTITY, QNAN;
+
+  static GQuat from_xyzw(T x, T y, T z, T w) noexcept { return {x, y, z, w}; }
+  static GQuat from_array(std::array<T, 4> const& a) noexcept { return {a[0], a[1], a[2], a[3]}; }
+  std::array<T, 4> to_array() const noexcept { return {x, y, z, w}; }
+  /// The vector part (x, y, z).
+  GVec3<T> xyz() const noexcept { return {x, y, z}; }
+
+  /// Rotation by angle about a unit axis.
+  static GQuat from_axis_angle(GVec3<T> const& axis, T angle) noexcept {
+    auto const [s, c] = plume::sincos(angle * plume::half<T>());
+    return {axis.x * s, axis.y * s, axis.z * s, c};
+  }
+  /// Rotation about v's direction by |v| radians; zero gives IDENTITY.
+  static GQuat from_scaled_axis(GVec3<T> const& v) noexcept {
+    T const angle = v.length();
+    mask_t<T> const zero = angle == plume::zero<T>();
+    GVec3<T> const axis = v / plume::select(zero, plume::one<T>(), angle);
+    return select(zero, IDENTITY, from_axis_angle(axis, angle));
+  }
+  static GQuat from_rotation_x(T angle) noexcept {
+    auto const [s, c] = plume::sincos(angle * plume::half<T>());
+    return {s, plume::zero<T>(), plume::zero<T>(), c};
+  }
+  static GQuat from_rotation_y(T angle) noexcept {
+    auto const [s, c] = plume::sincos(angle * plume::half<T>());
+    return {plume::zero<T>(), s, plume::zero<T>(), c};
+  }
+  static GQuat from_rotation_z(T angle) noexcept {
+    auto const [s, c] = plume::sincos(angle * plume::half<T>());
+    return {plume::zero<T>(), plume::zero<T>(), s, c};
+  }
+  static GQuat from_rotation_axis(int axis, T angle) noexcept {
+    return axis == 0 ? from_rotation_x(angle)
+                     : (axis == 1 ? from_rotation_y(angle) : from_rotation_z(angle));
+  }
+
+  /// The axes (0 = x, 1 = y, 2 = z) of an Euler order, first to last.
+  static constexpr std::array<int, 3> euler_axes(EulerRot order) noexcept {
+    switch (order) {
+    case EulerRot::XYZ:
+      return {0, 1, 2};
+    case EulerRot::XZY:
+      return {0, 2, 1};
+    case EulerRot::YXZ:
+      return {1, 0, 2};
+    case EulerRot::YZX:
+      return {1, 2, 0};
+    case EulerRot::ZXY:
+      return {2, 0, 1};
+    case EulerRot::ZYX:
+      return {2, 1, 0};
+    }
+    return {0, 1, 2};
+  }
+  static GQuat from_euler(EulerRot order, T a, T b, T c) noexcept {
+    auto const ax = euler_axes(order);
+    return from_rotation_axis(ax[0], a) * from_rotation_axis(ax[1], b) *
+           from_rotation_axis(ax[2], c);
+  }
+  /// The angles {a, b, c} with from_euler(order, a, b, c) == +-this (unit quaternion).
+  std::array<T, 3> to_euler(EulerRot order) const noexcept {
+    auto const ax = euler_axes(order);
+    int const i = ax[0], j = ax[1], k = ax[2];
+    // Cyclic orders (XYZ, YZX, ZXY) have parity +1.
+    T const s = ((j - i + 3) % 3 == 1) ? plume::one<T>() : -plume::one<T>();
+    GMat3<T> const m = GMat3<T>::from_quat(*this);
+    // b from atan2 of sin b against cos b = |(M[i][i], M[i][j])|: well conditioned even at
+    // the poles, where asin of a rounded sine would lose half the digits.
+    T const cos_b = plume::hypot(m.at(i, i), m.at(i, j));
+    T const b = plume::atan2(s * m.at(i, k), cos_b);
+    mask_t<T> const lock = cos_b <= splat<T>(scalar_type(16)) * plume::epsilon<T>();
+    T const a_free = plume::atan2(-s * m.at(j, k), m.at(k, k));
+    T const c_free = plume::atan2(-s * m.at(i, j), m.at(i, i));
+    T const a_lock = plume::atan2(s * m.at(k, j), m.at(j, j));
+    return {plume::select(lock, a_lock, a_free), b, plume::select(lock, plume::zero<T>(), c_free)};
+  }
+
+  /// The rotation of a rotation matrix (orthonormal, determinant +1). Shepperd's method:
+  /// the largest of w, x, y, z is computed from the diagonal, the others from the
+  /// off-diagonal terms; all four candidates are computed and selected per lane.
+  static GQuat from_mat3(GMat3<T> const& m) noexcept {
+    T const m00 = m.x_axis.x, m11 = m.y_axis.y, m22 = m.z_axis.z;
+    T const m01 = m.y_axis.x, m10 = m.x_axis.y, m02 = m.z_axis.x, m20 = m.x_axis.z,
+            m12 = m.z_axis.y, m21 = m.y_axis.z;
+    T const h = plume::half<T>(), one = plume::one<T>();
+    T const tw = (one + m00) + (m11 + m22), tx = (one + m00) - (m11 + m22),
+            ty = (one - m00) + (m11 - m22), tz = (one - m00) - (m11 - m22);
+    // 4 q_i^2 = t_i; q_i = sqrt(t_i)/2, and 1/(4 q_i) = (1/2)/sqrt(t_i).
+    T const max_t = plume::max(plume::max(tw, tx), plume::max(ty, tz));
+    mask_t<T> const use_w = tw == max_t, use_x = !use_w & (tx == max_t),
+                    use_y = !use_w & !use_x & (ty == max_t);
+    T const t = plume::select(use_w, tw, plume::select(use_x, tx, plume::select(use_y, ty, tz)));
+    T const r = plume::sqrt(t);
+    T const big = r * h, f = h / r;
+    GQuat const qw{(m21 - m12) * f, (m02 - m20) * f, (m10 - m01) * f, big};
+    GQuat const qx{big, (m01 + m10) * f, (m02 + m20) * f, (m21 - m12) * f};
+    GQuat const qy{(m01 + m10) * f, big, (m12 + m21) * f, (m02 - m20) * f};
+    GQuat const qz{(m02 + m20) * f, (m12 + m21) * f, big, (m10 - m01) * f};
+    return select(use_w, qw, select(use_x, qx, select(use_y, qy, qz)));
+  }
+  /// The shortest rotation taking unit vector from to unit vector to.
+  static GQuat from_rotation_arc(GVec3<T> const& from, GVec3<T> const& to) noexcept {
+    T const d = from.dot(to);
+    T const limit = plume::one<T>() - plume::two<T>() * plume::epsilon<T>();
+    GVec3<T> const c = from.cross(to);
+    GQuat const general = GQuat{c.x, c.y, c.z, plume::one<T>() + d}.normalize();
+    GQuat const half_turn = from_axis_angle(from.any_orthonormal_vector(), plume::pi<T>());
+    return select(d > limit, IDENTITY, select(d < -limit, half_turn, general));
+  }
+
+  struct axis_angle {
+    GVec3<T> axis;
+    T angle;
+  };
+  /// {unit axis, angle in [0, 2 pi)}; {X, 0} when the vector part is below 1e-8 (IDENTITY).
+  axis_angle to_axis_angle() const noexcept {
+    GVec3<T> const v = xyz();
+    T const len = v.length();
+    mask_t<T> const ok = len >= splat<T>(scalar_type(1e-8));
+    T const safe = plume::select(ok, len, plume::one<T>());
+    return {GVec3<T>::select(ok, v / safe, GVec3<T>::X),
+            plume::select(ok, plume::two<T>() * plume::atan2(len, w), plume::zero<T>())};
+  }
+  /// axis * angle.
+  GVec3<T> to_scaled_axis() const noexcept {
+    auto const aa = to_axis_angle();
+    return aa.axis * aa.angle;
+  }
+
+  GQuat conjugate() const noexcept { return {-x, -y, -z, w}; }
+  /// The inverse rotation: the conjugate (exact for unit quaternions).
+  GQuat inverse() const noexcept { return conjugate(); }
+  T dot(GQuat const& b) const noexcept { return ((x * b.x + y * b.y) + z * b.z) + w * b.w; }
+  T length_squared() const noexcept { return dot(*this); }
+  T length() const noexcept { return plume::sqrt(length_squared()); }
+  T length_recip() const noexcept { return plume::one<T>() / length(); }
+  GQuat normalize() const noexcept { return *this * length_recip(); }
+  mask_t<T> is_normalized() const noexcept {
+    return plume::abs(length_squared() - plume::one<T>()) <= splat<T>(scalar_type(2e-4));
+  }
+  /// Per lane: the rotation angle is below about 0.0028 rad (glam's threshold).
+  mask_t<T> is_near_identity() const noexcept {
+    T const angle = plume::two<T>() * plume::acos(plume::min(plume::abs(w), plume::one<T>()));
+    return angle < splat<T>(scalar_type(0.0028471446));
+  }
+  mask_t<T> is_finite() const noexcept {
+    return ((plume::is_finite(x) & plume::is_finite(y)) & plume::is_finite(z)) &
+           plume::is_finite(w);
+  }
+  mask_t<T> is_nan() const noexcept {
+    return ((plume::is_nan(x) | plume::is_nan(y)) | plume::is_nan(z)) | plume::is_nan(w);
+  }
+  mask_t<T> abs_diff_eq(GQuat const& b, T max_abs_diff) const noexcept {
+    return ((plume::abs(x - b.x) <= max_abs_diff) & (plume::abs(y - b.y) <= max_abs_diff)) &
+           ((plume::abs(z - b.z) <= max_abs_diff) & (plume::abs(w - b.w) <= max_abs_diff));
+  }
+  /// The angle in [0, pi] of the rotation taking this to b (unit quaternions):
+  /// 2 atan2(|vector part of this^-1 b|, |its w|), accurate for small angles.
+  T angle_between(GQuat const& b) const noexcept {
+    GQuat const d = conjugate() * b;
+    return plume::two<T>() * plume::atan2(d.xyz().length(), plume::abs(d.w));
+  }
+
+  /// Rotates v: v + w t + u x t with u = (x, y, z), t = 2 u x v.
+  GVec3<T> mul_vec3(GVec3<T> const& v) const noexcept {
+    GVec3<T> const u = xyz();
+    GVec3<T> const t = u.cross(v) * plume::two<T>();
+    return (v + t * w) + u.cross(t);
+  }
+  /// Hamilton product: rotation by b, then by this.
+  GQuat mul_quat(GQuat const& b) const noexcept {
+    return {((w * b.x + x * b.w) + y * b.z) - z * b.y, ((w * b.y - x * b.z) + y * b.w) + z * b.x,
+            ((w * b.z + x * b.y) - y * b.x) + z * b.w, ((w * b.w - x * b.x) - y * b.y) - z * b.z};
+  }
+
+  static GQuat select(mask_t<T> m, GQuat const& a, GQuat const& b) noexcept {
+    return {plume::select(m, a.x, b.x), plume::select(m, a.y, b.y), plume::select(m, a.z, b.z),
+            plume::select(m, a.w, b.w)};
+  }
+
+  /// Normalised linear interpolation along the shorter arc.
+  GQuat lerp(GQuat const& end, T t) const noexcept {
+    T const sign = plume::select(dot(end) < plume::zero<T>(), -plume::one<T>(), plume::one<T>());
+    GQuat const e = end * sign;
+    return GQuat{plume::lerp(x, e.x, t), plume::lerp(y, e.y, t), plume::lerp(z, e.z, t),
+                 plume::lerp(w, e.w, t)}
+        .normalize();
+  }
+  /// Spherical linear interpolation along the shorter arc, constant angular speed; nearly
+  /// parallel inputs (cos > 1 - eps) use lerp instead.
+  GQuat slerp(GQuat const& end, T t) const noexcept {
+    T d = dot(end);
+    mask_t<T> const flip = d < plume::zero<T>();
+    GQuat const e = select(flip, -end, end);
+    d = plume::abs(d);
+    mask_t<T> const near = d > plume::one<T>() - plume::epsilon<T>();
+    T const theta = plume::acos(plume::min(d, plume::one<T>()));
+    T const s = plume::select(near, plume::one<T>(), plume::sin(theta));
+    T const s0 = plume::sin(theta * (plume::one<T>() - t)) / s, s1 = plume::sin(theta * t) / s;
+    GQuat const general = *this * s0 + e * s1;
+    return select(near, lerp(e, t), general);
+  }
+  /// Rotates towards b by at most max_angle (radians); b itself when within 1e-4 rad.
+  GQuat rotate_towards(GQuat const& b, T max_angle) const noexcept {
+    T const angle = angle_between(b);
+    mask_t<T> const arrive = angle <= splat<T>(scalar_type(1e-4));
+    T const f = plume::clamp(max_angle / plume::select(arrive, plume::one<T>(), angle),
+                             -plume::one<T>(), plume::one<T>());
+    return select(arrive, b, slerp(b, f));
+  }
+
+  friend GQuat operator*(GQuat const& a, GQuat const& b) noexcept { return a.mul_quat(b); }
+  friend GVec3<T> operator*(GQuat const& q, GVec3<T> const& v) noexcept { return q.mul_vec3(v); }
+  friend GQuat operator*(GQuat const& q, T s) noexcept {
+    return {q.x * s, q.y * s, q.z * s, q.w * s};
+  }
+  friend GQuat operator/(GQuat const& q, T s) noexcept {
+    return {q.x / s, q.y / s, q.z / s, q.w / s};
+  }
+  friend GQuat operator+(GQuat const& a, GQuat const& b) noexcept {
+    return {a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w};
+  }
+  friend GQuat operator-(GQuat const& a, GQuat const& b) noexcept {
+    return {a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w};
+  }
+  friend GQuat operator-(GQuat const& q) noexcept { return {-q.x, -q.y, -q.z, -q.w}; }
+  GQuat& operator*=(GQuat const& b) noexcept { return *this = *this * b; }
+};
+
+template <Float T>
+inline GQuat<T> const GQuat<T>::IDENTITY = {};
+template <Float T>
+inline GQuat<T> const GQuat<T>::QNAN = {plume::nan<T>(), plume::nan<T>(), plume::nan<T>(),
+                                        plume::nan<T>()};
+
+using Quat = GQuat<float>;
+using DQuat = GQuat<double>;
+using QuatxN = GQuat<f32xN>;
+using DQuatxN = GQuat<f64xN>;
+#if PLUME_HAS_BATCHES
+using Quatx4 = GQuat<f32x4>;
+using DQuatx2 = GQuat<f64x2>;
+#endif
+#if PLUME_HAS_AVX2
+using Quatx8 = GQuat<f32x8>;
+using DQuatx4 = GQuat<f64x4>;
+#endif
+#if PLUME_HAS_AVX512
+using Quatx16 = GQuat<f32x16>;
+using DQuatx8 = GQuat<f64x8>;
+#endif
+
+template <Float T>
+PLUME_INLINE GQuat<scalar_t<T>> lane(GQuat<T> const& q, std::size_t i) noexcept {
+  return {plume::lane(q.x, i), plume::lane(q.y, i), plume::lane(q.z, i), plume::lane(q.w, i)};
+}
+template <Float T>
+PLUME_INLINE GQuat<T> with_lane(GQuat<T> const& q, std::size_t i,
+                                GQuat<scalar_t<T>> const& s) noexcept {
+  return {plume::with_lane(q.x, i, s.x), plume::with_lane(q.y, i, s.y),
+          plume::with_lane(q.z, i, s.z), plume::with_lane(q.w, i, s.w)};
+}
+
+template <Float T>
+std::ostream& operator<<(std::ostream& os, GQuat<T> const& q) {
+  if constexpr (is_batch_v<T>) {
+    os << '[';
+    for (std::size_t i = 0; i < lanes_v<T>; ++i)
+      os << (i ? ", " : "") << plume::lane(q, i);
+    return os << ']';
+  } else {
+    return os << "quat(" << q.x << ", " << q.y << ", " << q.z << ", " << q.w << ')';
+  }
+}
+
+} // namespace plume
+
+PLUME_MASK_CODE_END

@@ -1,0 +1,109 @@
+// Helpers for the math tests: random generic vectors/quaternions/matrices whose lanes differ,
+// bitwise comparison of whole math values, and tolerances derived from the operation.
+#pragma once
+
+#include "../common/harness.hpp"
+#include "../common/types.hpp"
+
+#include <plume/math.hpp>
+
+#include <random>
+
+namespace plume::test {
+
+/// Deterministic random element values: every lane drawn separately.
+struct rng {
+  std::mt19937_64 gen;
+  explicit rng(std::uint64_t seed) : gen(seed) {}
+  double uniform(double lo, double hi) {
+    return lo + (hi - lo) * (double(gen() >> 11) * 0x1.0p-53);
+  }
+  template <class T>
+  T elem(double lo, double hi) {
+    std::array<scalar_t<T>, lanes_v<T>> a;
+    for (auto& v : a)
+      v = static_cast<scalar_t<T>>(uniform(lo, hi));
+    return from_array<T>(a);
+  }
+  template <class T>
+  GVec3<T> vec3(double lo = -10, double hi = 10) {
+    return {elem<T>(lo, hi), elem<T>(lo, hi), elem<T>(lo, hi)};
+  }
+  /// A unit vector per lane (normalised in double, then rounded).
+  template <class T>
+  GVec3<T> unit3() {
+    GVec3<T> v;
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      double x, y, z, n;
+      do {
+        x = uniform(-1, 1), y = uniform(-1, 1), z = uniform(-1, 1);
+        n = std::sqrt(x * x + y * y + z * z);
+      } while (n < 0.1 || n > 1);
+      using S = scalar_t<T>;
+      v = plume::with_lane(v, i, GVec3<S>{S(x / n), S(y / n), S(z / n)});
+    }
+    return v;
+  }
+  template <class T>
+  GQuat<T> quat() {
+    GQuat<T> q;
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      double c[4], n;
+      do {
+        n = 0;
+        for (auto& v : c) {
+          v = uniform(-1, 1);
+          n += v * v;
+        }
+        n = std::sqrt(n);
+      } while (n < 0.1 || n > 1);
+      using S = scalar_t<T>;
+      q = plume::with_lane(q, i, GQuat<S>{S(c[0] / n), S(c[1] / n), S(c[2] / n), S(c[3] / n)});
+    }
+    return q;
+  }
+  template <class T>
+  GMat3<T> mat3(double lo = -1, double hi = 1) {
+    return {vec3<T>(lo, hi), vec3<T>(lo, hi), vec3<T>(lo, hi)};
+  }
+};
+
+template <class S>
+constexpr double eps_v = std::numeric_limits<S>::epsilon();
+
+// Bitwise equality of whole values (NaN = NaN), for the lane-exactness checks: numbers,
+// masks, vectors, quaternions, matrices and arrays of them. One template, so that no
+// implicit conversion can pick a wrong overload.
+template <class A>
+bool same(A const& a, A const& b) {
+  if constexpr (std::is_same_v<A, bool>)
+    return a == b;
+  else if constexpr (std::is_floating_point_v<A>)
+    return same_bits(a, b);
+  else if constexpr (requires { a.x_axis; })
+    return same(a.x_axis, b.x_axis) && same(a.y_axis, b.y_axis) && same(a.z_axis, b.z_axis);
+  else if constexpr (requires { a.w; })
+    return same(a.x, b.x) && same(a.y, b.y) && same(a.z, b.z) && same(a.w, b.w);
+  else if constexpr (requires { a.z; })
+    return same(a.x, b.x) && same(a.y, b.y) && same(a.z, b.z);
+  else {
+    for (std::size_t k = 0; k < a.size(); ++k)
+      if (!same(a[k], b[k])) return false;
+    return true;
+  }
+}
+
+// Lane i of any math value (numbers and masks through plume::lane).
+template <class V>
+auto lane_of(V const& v, std::size_t i) {
+  if constexpr (requires { plume::lane(v, i); })
+    return plume::lane(v, i);
+  else if constexpr (requires { v.size(); }) {
+    std::array<decltype(lane_of(v[0], i)), std::tuple_size_v<V>> out;
+    for (std::size_t k = 0; k < out.size(); ++k)
+      out[k] = lane_of(v[k], i);
+    return out;
+  }
+}
+
+} // namespace plume::test

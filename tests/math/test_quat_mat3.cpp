@@ -1,0 +1,327 @@
+// GQuat and GMat3: identities with derived tolerances, Eigen as an independent oracle,
+// degenerate input and lane-exactness, on every element type of the build.
+#include "math_support.hpp"
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+
+using namespace plume;
+
+namespace {
+template <class S>
+Eigen::Matrix3d to_eigen(GMat3<S> const& m) {
+  Eigen::Matrix3d e;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      e(i, j) = double(m.at(std::size_t(i), std::size_t(j)));
+  return e;
+}
+template <class S>
+Eigen::Quaterniond to_eigen(GQuat<S> const& q) {
+  return Eigen::Quaterniond(double(q.w), double(q.x), double(q.y), double(q.z));
+}
+/// Distance between rotations given as quaternions, q ~ -q.
+template <class S>
+double quat_dist(GQuat<S> const& a, Eigen::Quaterniond const& b) {
+  Eigen::Vector4d const av(double(a.x), double(a.y), double(a.z), double(a.w));
+  Eigen::Vector4d const bv(b.x(), b.y(), b.z(), b.w());
+  return std::min((av - bv).norm(), (av + bv).norm());
+}
+/// Product of the column lengths: bounds |det| (Hadamard) and scales its rounding error.
+template <class S>
+double hadamard(GMat3<S> const& m) {
+  return double(m.x_axis.length()) * double(m.y_axis.length()) * double(m.z_axis.length());
+}
+} // namespace
+
+TEMPLATE_LIST_TEST_CASE("quaternion identities", "[math][quat]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  double const eps = test::eps_v<S>;
+  test::rng r(3);
+  for (int it = 0; it < 200; ++it) {
+    auto const q1 = r.quat<T>(), q2 = r.quat<T>();
+    auto const v = r.vec3<T>();
+    auto const rv = q1 * v;
+    auto const qq = q1 * q1.inverse();
+    auto const lhs = (q1 * q2) * v, rhs = q1 * (q2 * v);
+    auto const back = GQuat<T>::from_mat3(GMat3<T>::from_quat(q1));
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      double const lv = lane(v, i).length();
+      INFO("q1 = " << lane(q1, i) << ", q2 = " << lane(q2, i) << ", v = " << lane(v, i));
+      // |q v| = |v| within 8 eps |v|.
+      CHECK(std::abs(double(lane(rv, i).length()) - lv) <= 8 * eps * lv);
+      // q q^-1 = identity within 4 eps per component.
+      auto const e = lane(qq, i);
+      CHECK(std::abs(double(e.x)) + std::abs(double(e.y)) + std::abs(double(e.z)) +
+                std::abs(double(e.w) - 1) <=
+            8 * eps);
+      // (q1 q2) v = q1 (q2 v) within 16 eps |v|.
+      CHECK(double((lane(lhs, i) - lane(rhs, i)).length()) <= 16 * eps * lv);
+      // from_mat3(from_quat(q)) = +-q within 8 eps.
+      CHECK(quat_dist(lane(back, i), to_eigen(lane(q1, i))) <= 8 * eps);
+    }
+    // slerp: endpoints and constant angular speed.
+    T const t = r.elem<T>(0, 1);
+    auto const s0 = q1.slerp(q2, zero<T>()), s1 = q1.slerp(q2, one<T>()), st = q1.slerp(q2, t);
+    auto const total = q1.angle_between(q2), part = q1.angle_between(st);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      CHECK(quat_dist(lane(s0, i), to_eigen(lane(q1, i))) <= 16 * eps);
+      CHECK(quat_dist(lane(s1, i), to_eigen(lane(q2, i))) <= 16 * eps);
+      double const want = double(lane(t, i)) * double(lane(total, i));
+      INFO("slerp at t = " << lane(t, i) << ": angle " << lane(part, i) << ", expected " << want);
+      CHECK(std::abs(double(lane(part, i)) - want) <= 128 * eps);
+    }
+  }
+}
+
+TEMPLATE_LIST_TEST_CASE("euler angles round trip in every order", "[math][quat]",
+                        test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  double const eps = test::eps_v<S>;
+  test::rng r(4);
+  for (auto order :
+       {EulerRot::XYZ, EulerRot::XZY, EulerRot::YXZ, EulerRot::YZX, EulerRot::ZXY, EulerRot::ZYX}) {
+    for (int it = 0; it < 50; ++it) {
+      T const a = r.elem<T>(-3.1, 3.1), b = r.elem<T>(-1.4, 1.4), c = r.elem<T>(-3.1, 3.1);
+      auto const q = GQuat<T>::from_euler(order, a, b, c);
+      auto const e = q.to_euler(order);
+      for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+        INFO("order " << int(order) << ": (" << lane(a, i) << ", " << lane(b, i) << ", "
+                      << lane(c, i) << ") -> (" << lane(e[0], i) << ", " << lane(e[1], i) << ", "
+                      << lane(e[2], i) << ")");
+        // asin near |b| = 1.4 amplifies the matrix entry's error by 1/cos(1.4) ~ 6.
+        CHECK(std::abs(double(lane(e[0], i)) - double(lane(a, i))) <= 256 * eps);
+        CHECK(std::abs(double(lane(e[1], i)) - double(lane(b, i))) <= 256 * eps);
+        CHECK(std::abs(double(lane(e[2], i)) - double(lane(c, i))) <= 256 * eps);
+      }
+      // Any rotation, gimbal lock included, comes back as the same rotation.
+      auto const q2 = r.quat<T>();
+      auto const e2 = q2.to_euler(order);
+      auto const back = GQuat<T>::from_euler(order, e2[0], e2[1], e2[2]);
+      for (std::size_t i = 0; i < lanes_v<T>; ++i)
+        CHECK(quat_dist(lane(back, i), to_eigen(lane(q2, i))) <= 64 * eps);
+    }
+    // Gimbal lock: b = +-pi/2 exactly.
+    for (S sb : {S(1), S(-1)}) {
+      auto const q = GQuat<T>::from_euler(order, splat<T>(S(0.3)), splat<T>(sb * pi<S>() / 2),
+                                          splat<T>(S(0.2)));
+      auto const e = q.to_euler(order);
+      auto const back = GQuat<T>::from_euler(order, e[0], e[1], e[2]);
+      for (std::size_t i = 0; i < lanes_v<T>; ++i)
+        CHECK(quat_dist(lane(back, i), to_eigen(lane(q, i))) <= 1e3 * eps);
+    }
+  }
+}
+
+TEMPLATE_LIST_TEST_CASE("mat3 identities", "[math][mat3]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  double const eps = test::eps_v<S>;
+  test::rng r(5);
+  for (int it = 0; it < 200; ++it) {
+    // Well conditioned: a rotation times a diagonal in [0.5, 2] (condition number <= 4).
+    auto const rot = GMat3<T>::from_quat(r.quat<T>());
+    auto const m = rot * GMat3<T>::from_diagonal(r.vec3<T>(0.5, 2));
+    auto const mi = m * m.inverse();
+    auto const a = r.mat3<T>(), b = r.mat3<T>();
+    auto const dab = (a * b).determinant(), da = a.determinant(), db = b.determinant();
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      auto const e = lane(mi, i);
+      double err = 0;
+      for (std::size_t p = 0; p < 3; ++p)
+        for (std::size_t q = 0; q < 3; ++q)
+          err = std::max(err, std::abs(double(e.at(p, q)) - (p == q ? 1.0 : 0.0)));
+      INFO("M = " << lane(m, i) << ", M M^-1 = " << e);
+      CHECK(err <= 64 * eps);
+      // det(AB) = det A det B within 32 eps times the Hadamard bounds.
+      double const tol = 32 * eps * hadamard(lane(a, i)) * hadamard(lane(b, i));
+      INFO("det(AB) = " << lane(dab, i)
+                        << ", det A det B = " << double(lane(da, i)) * double(lane(db, i)));
+      CHECK(std::abs(double(lane(dab, i)) - double(lane(da, i)) * double(lane(db, i))) <= tol);
+    }
+  }
+}
+
+TEMPLATE_LIST_TEST_CASE("Eigen agrees with plume's matrices and quaternions", "[math][eigen]",
+                        test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  double const eps = test::eps_v<S>;
+  test::rng r(6);
+  for (int it = 0; it < 200; ++it) {
+    auto const a = r.mat3<T>(), b = r.mat3<T>();
+    auto const q1 = r.quat<T>(), q2 = r.quat<T>();
+    auto const v = r.vec3<T>();
+    T const t = r.elem<T>(0, 1);
+    auto const ab = a * b, ai = a.inverse();
+    auto const det = a.determinant();
+    auto const rq = GMat3<T>::from_quat(q1);
+    auto const qm = GQuat<T>::from_mat3(rq);
+    auto const sl = q1.slerp(q2, t);
+    auto const av = a * v;
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      Eigen::Matrix3d const ea = to_eigen(lane(a, i)), eb = to_eigen(lane(b, i));
+      double const na = ea.norm(), nb = eb.norm();
+      CHECK((to_eigen(lane(ab, i)) - ea * eb).norm() <= 8 * eps * na * nb);
+      CHECK(std::abs(double(lane(det, i)) - ea.determinant()) <= 16 * eps * hadamard(lane(a, i)));
+      // Inverse: relative to the condition number Eigen computes.
+      Eigen::Matrix3d const einv = ea.inverse();
+      double const cond = na * einv.norm();
+      if (cond < 1e3) CHECK((to_eigen(lane(ai, i)) - einv).norm() <= 16 * eps * cond * einv.norm());
+      Eigen::Vector3d const ev(lane(v, i).x, lane(v, i).y, lane(v, i).z);
+      Eigen::Vector3d const eav = ea * ev;
+      auto const pav = lane(av, i);
+      CHECK((Eigen::Vector3d(pav.x, pav.y, pav.z) - eav).norm() <= 8 * eps * na * ev.norm());
+      // Quaternion <-> matrix and slerp.
+      Eigen::Quaterniond const e1 = to_eigen(lane(q1, i)), e2 = to_eigen(lane(q2, i));
+      CHECK((to_eigen(lane(rq, i)) - e1.toRotationMatrix()).norm() <= 8 * eps);
+      CHECK(quat_dist(lane(qm, i), e1) <= 8 * eps);
+      CHECK(quat_dist(lane(sl, i), e1.slerp(double(lane(t, i)), e2)) <= 64 * eps);
+    }
+  }
+}
+
+TEMPLATE_LIST_TEST_CASE("quat and mat3 degenerate input", "[math][quat][mat3]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  using V = GVec3<T>;
+  using Q = GQuat<T>;
+  using M = GMat3<T>;
+  double const eps = test::eps_v<S>;
+  // Singular matrices: try_inverse says so and gives zero; inverse_or_zero is zero.
+  M const singular{V::X, V::X * two<T>(), V::Z};
+  auto const ti = singular.try_inverse();
+  CHECK(plume::none(ti.valid));
+  CHECK(plume::all(ti.value.abs_diff_eq(M::ZERO, zero<T>())));
+  CHECK(plume::all(singular.inverse_or_zero().abs_diff_eq(M::ZERO, zero<T>())));
+  CHECK(plume::all(M::IDENTITY.try_inverse().valid));
+  CHECK(plume::none(M::QNAN.try_inverse().valid));
+  // from_rotation_arc of opposite vectors: a half turn taking a to -a.
+  test::rng r(7);
+  for (int it = 0; it < 20; ++it) {
+    V const a = r.unit3<T>();
+    Q const q = Q::from_rotation_arc(a, -a);
+    V const back = q * a;
+    Q const same_q = Q::from_rotation_arc(a, a);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      CHECK(double((lane(back, i) + lane(a, i)).length()) <= 16 * eps);
+      CHECK(!lane(q, i).is_nan());
+      CHECK(quat_dist(lane(same_q, i), Eigen::Quaterniond::Identity()) <= 4 * eps);
+    }
+    // General arcs rotate a onto b.
+    V const b = r.unit3<T>();
+    V const ab = Q::from_rotation_arc(a, b) * a;
+    for (std::size_t i = 0; i < lanes_v<T>; ++i)
+      CHECK(double((lane(ab, i) - lane(b, i)).length()) <= 64 * eps);
+  }
+  // slerp of identical quaternions is the same rotation; of q and -q, q.
+  Q const q = Q::from_axis_angle(V::Y, splat<T>(S(0.7)));
+  for (S tt : {S(0), S(0.3), S(1)}) {
+    Q const s1 = q.slerp(q, splat<T>(tt)), s2 = q.slerp(-q, splat<T>(tt));
+    CHECK(plume::none(s1.is_nan()));
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      CHECK(quat_dist(lane(s1, i), to_eigen(lane(q, i))) <= 4 * eps);
+      CHECK(quat_dist(lane(s2, i), to_eigen(lane(q, i))) <= 4 * eps);
+    }
+  }
+  // from_scaled_axis(0) = identity; to_axis_angle(identity) = (X, 0).
+  CHECK(plume::all(Q::from_scaled_axis(V::ZERO).abs_diff_eq(Q::IDENTITY, zero<T>())));
+  auto const aa = Q::IDENTITY.to_axis_angle();
+  CHECK(plume::all(aa.axis.cmpeq(V::X).all()));
+  CHECK(plume::all(aa.angle == zero<T>()));
+  CHECK(plume::all(Q::IDENTITY.is_near_identity()));
+  CHECK(plume::none(Q::from_rotation_x(splat<T>(S(0.01))).is_near_identity()));
+  // rotate_towards stops at the target and never overshoots.
+  Q const target = Q::from_rotation_z(splat<T>(S(1)));
+  Q const step = Q::IDENTITY.rotate_towards(target, splat<T>(S(0.25)));
+  CHECK(plume::all(plume::abs(Q::IDENTITY.angle_between(step) - splat<T>(S(0.25))) <=
+                   splat<T>(S(16 * eps))));
+  CHECK(plume::all(Q::IDENTITY.rotate_towards(target, splat<T>(S(5)))
+                       .abs_diff_eq(target, splat<T>(S(16 * eps)))));
+}
+
+#if PLUME_HAS_BATCHES
+namespace {
+template <class T, class F>
+void check_quat_lanes(char const* name, F f) {
+  using S = scalar_t<T>;
+  test::rng r(8);
+  std::size_t failures = 0;
+  auto const adv = test::adversarial<S>();
+  for (int k = 0; k < 300; ++k) {
+    auto q1 = r.quat<T>(), q2 = r.quat<T>();
+    auto v = r.vec3<T>();
+    T t = r.elem<T>(-1, 2);
+    // Poison one lane with an adversarial value: the others must not change.
+    std::size_t const bad = std::size_t(k) % lanes_v<T>;
+    S const poison = adv[std::size_t(k) % adv.size()];
+    if (k % 3 == 0) q1.y = plume::with_lane(q1.y, bad, poison);
+    if (k % 3 == 1) v.z = plume::with_lane(v.z, bad, poison);
+    if (k % 3 == 2) t = plume::with_lane(t, bad, poison);
+    if (k % 7 == 0)
+      q2 = plume::with_lane(q2, (bad + 1) % lanes_v<T>, lane(q1, (bad + 1) % lanes_v<T>));
+    auto const wide = f(q1, q2, v, t);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      auto const want = f(lane(q1, i), lane(q2, i), lane(v, i), lane(t, i));
+      if (!test::same(test::lane_of(wide, i), want) && failures++ < 3) {
+        FAIL_CHECK(name << ": lane " << i << " differs for q1 = " << lane(q1, i) << ", q2 = "
+                        << lane(q2, i) << ", v = " << lane(v, i) << ", t = " << lane(t, i));
+      }
+    }
+  }
+  CHECK(failures == 0);
+}
+} // namespace
+
+TEMPLATE_LIST_TEST_CASE("every quat and mat3 method is lane-exact", "[math][lanes]",
+                        test::wide_real_types) {
+  using T = TestType;
+  using V = GVec3<T>;
+  using Q = GQuat<T>;
+  using M = GMat3<T>;
+  (void)sizeof(V);
+#define QL(expr)                                                                                   \
+  check_quat_lanes<T>(#expr,                                                                       \
+                      []([[maybe_unused]] auto q1, [[maybe_unused]] auto q2,                       \
+                         [[maybe_unused]] auto v, [[maybe_unused]] auto t) { return expr; })
+  QL(q1 * q2);
+  QL(q1 * v);
+  QL(q1.inverse());
+  QL(q1.normalize());
+  QL(q1.length());
+  QL(q1.dot(q2));
+  QL(q1.is_normalized());
+  QL(q1.is_near_identity());
+  QL(q1.angle_between(q2));
+  QL(q1.lerp(q2, t));
+  QL(q1.slerp(q2, t));
+  QL(q1.rotate_towards(q2, t));
+  QL(q1.to_axis_angle().axis);
+  QL(q1.to_axis_angle().angle);
+  QL(q1.to_scaled_axis());
+  QL(decltype(q1)::from_axis_angle(v.normalize(), t));
+  QL(decltype(q1)::from_scaled_axis(v));
+  QL(decltype(q1)::from_rotation_x(t));
+  QL(decltype(q1)::from_euler(EulerRot::YXZ, t, t * 0.5f, t * 2.0f));
+  QL(q1.to_euler(EulerRot::XYZ));
+  QL(q1.to_euler(EulerRot::ZYX));
+  QL(decltype(q1)::from_rotation_arc(v.normalize(), q2 * v.normalize()));
+  QL(decltype(q1)::from_mat3(GMat3<decltype(t)>::from_quat(q1)));
+  QL(GMat3<decltype(t)>::from_quat(q1));
+  QL(GMat3<decltype(t)>::from_quat(q1) * v);
+  QL(GMat3<decltype(t)>::from_axis_angle(v.normalize(), t));
+  QL((GMat3<decltype(t)>::from_quat(q1) * GMat3<decltype(t)>::from_diagonal(v)).inverse());
+  QL((GMat3<decltype(t)>::from_quat(q1) * GMat3<decltype(t)>::from_diagonal(v))
+         .try_inverse()
+         .valid);
+  QL((GMat3<decltype(t)>::from_quat(q1) * GMat3<decltype(t)>::from_diagonal(v)).determinant());
+  QL(GMat3<decltype(t)>::from_quat(q1).mul_transpose_vec3(v));
+  QL(GMat3<decltype(t)>::from_diagonal(v).rotate_inertia(GMat3<decltype(t)>::from_quat(q2)));
+  QL(GMat3<decltype(t)>::skew(v) * GMat3<decltype(t)>::from_quat(q1).transpose());
+#undef QL
+  (void)sizeof(Q);
+  (void)sizeof(M);
+}
+#endif

@@ -1,0 +1,247 @@
+// GVec3: identities, degenerate input and lane-exactness of every method, on every element
+// type of the build.
+#include "math_support.hpp"
+
+using namespace plume;
+
+TEMPLATE_LIST_TEST_CASE("vec3 identities", "[math][vec3]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  double const eps = test::eps_v<S>;
+  test::rng r(1);
+  for (int it = 0; it < 200; ++it) {
+    auto const a = r.vec3<T>(), b = r.vec3<T>();
+    auto const n = r.unit3<T>();
+    auto const c = a.cross(b);
+    auto const ab = a.dot(b), cc = c.length_squared(), aa = a.length_squared(),
+               bb = b.length_squared(), ca = c.dot(a);
+    auto const ref = a.reflect(n).reflect(n);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      double const la = std::sqrt(double(lane(aa, i))), lb = std::sqrt(double(lane(bb, i)));
+      // (a x b) is perpendicular to a: |(a x b) . a| <= 8 eps |a|^2 |b|.
+      double const tol_perp = 8 * eps * la * la * lb;
+      INFO("a = " << lane(a, i) << ", b = " << lane(b, i) << ", tolerance " << tol_perp);
+      CHECK(std::abs(double(lane(ca, i))) <= tol_perp);
+      // Lagrange: |a x b|^2 + (a . b)^2 = |a|^2 |b|^2, within 16 eps |a|^2 |b|^2.
+      double const lhs = double(lane(cc, i)) + double(lane(ab, i)) * double(lane(ab, i));
+      double const rhs = la * la * lb * lb;
+      CHECK(std::abs(lhs - rhs) <= 16 * eps * rhs);
+      // Reflecting twice across the same plane gives the vector back (8 eps |a|).
+      auto const d = lane(ref, i) - lane(a, i);
+      CHECK(double(d.length()) <= 8 * eps * la);
+    }
+    // Normalised vectors are unit within 2 eps, and angle_between matches the dot product.
+    auto const u = a.normalize();
+    auto const ang = a.angle_between(b);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      CHECK(std::abs(double(lane(u, i).length()) - 1) <= 2 * eps);
+      auto const la_ = lane(a, i), lb_ = lane(b, i);
+      double const ca_ =
+          (double(la_.x) * lb_.x + double(la_.y) * lb_.y + double(la_.z) * lb_.z) /
+          (std::sqrt(double(la_.length_squared())) * std::sqrt(double(lb_.length_squared())));
+      double const want = std::acos(std::clamp(ca_, -1.0, 1.0));
+      INFO("angle_between " << lane(ang, i) << ", acos in double " << want);
+      CHECK(std::abs(double(lane(ang, i)) - want) <= 64 * eps + 1e-3 * (eps > 1e-10));
+    }
+  }
+}
+
+TEMPLATE_LIST_TEST_CASE("vec3 methods against their definitions", "[math][vec3]",
+                        test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  using V = GVec3<T>;
+  double const eps = test::eps_v<S>;
+  test::rng r(2);
+  for (int it = 0; it < 100; ++it) {
+    V const a = r.vec3<T>(), b = r.vec3<T>();
+    V const n = r.unit3<T>();
+    T const t = r.elem<T>(0, 1);
+    // project + reject = a; reject is perpendicular to b.
+    V const p = a.project_onto(b), q = a.reject_from(b);
+    V const orth = n.any_orthonormal_vector();
+    auto const pair = n.any_orthonormal_pair();
+    V const ortho_any = a.any_orthogonal_vector();
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      auto const ai = lane(a, i), bi = lane(b, i), ni = lane(n, i);
+      double const la = ai.length(), lb = bi.length();
+      CHECK(double((lane(p, i) + lane(q, i) - ai).length()) <= 8 * eps * la);
+      CHECK(std::abs(double(lane(q, i).dot(bi))) <= 16 * eps * la * lb);
+      // Orthonormal basis: unit, perpendicular, right-handed.
+      auto const o = lane(orth, i), p0 = lane(pair[0], i), p1 = lane(pair[1], i);
+      CHECK(std::abs(double(o.length()) - 1) <= 8 * eps);
+      CHECK(std::abs(double(o.dot(ni))) <= 8 * eps);
+      CHECK(double((p0.cross(p1) - ni).length()) <= 16 * eps);
+      CHECK(std::abs(double(lane(ortho_any, i).dot(ai))) <= 8 * eps * la * la);
+      CHECK(double(lane(ortho_any, i).length()) >= 0.5 * la);
+    }
+    // clamp_length, move_towards, lerp and slerp endpoints.
+    V const cl = a.clamp_length(splat<T>(S(1)), splat<T>(S(2)));
+    V const mt = a.move_towards(b, splat<T>(S(0.5)));
+    V const s0 = a.slerp(b, zero<T>()), s1 = a.slerp(b, one<T>()), sm = a.slerp(b, t);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      auto const ai = lane(a, i), bi = lane(b, i);
+      double const lc = lane(cl, i).length();
+      CHECK(lc >= 1 - 4 * eps);
+      CHECK(lc <= 2 + 4 * eps);
+      double const dist = (bi - ai).length();
+      double const moved = (lane(mt, i) - ai).length();
+      CHECK(std::abs(moved - std::min(0.5, dist)) <= 16 * eps * (ai.length() + 1));
+      CHECK(double((lane(s0, i) - ai).length()) <= 64 * eps * ai.length());
+      CHECK(double((lane(s1, i) - bi).length()) <= 64 * eps * bi.length());
+      // slerp's length is lerped.
+      double const want_len = ai.length() + double(lane(t, i)) * (bi.length() - ai.length());
+      CHECK(std::abs(double(lane(sm, i).length()) - want_len) <=
+            64 * eps * (ai.length() + bi.length()));
+    }
+  }
+}
+
+TEMPLATE_LIST_TEST_CASE("vec3 degenerate input", "[math][vec3]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  using V = GVec3<T>;
+  V const zero_v = V::ZERO;
+  // normalize(0) is NaN; the _or forms and try_normalize are not.
+  CHECK(plume::all(zero_v.normalize().is_nan()));
+  CHECK(plume::all(zero_v.normalize_or_zero().cmpeq(V::ZERO).all()));
+  CHECK(plume::all(zero_v.normalize_or(V::Y).cmpeq(V::Y).all()));
+  auto const tn = zero_v.try_normalize();
+  CHECK(plume::none(tn.valid));
+  CHECK(plume::all(tn.value.cmpeq(V::ZERO).all()));
+  auto const nl = zero_v.normalize_and_length();
+  CHECK(plume::all(nl.value.cmpeq(V::X).all()));
+  CHECK(plume::all(nl.length == zero<T>()));
+  // Infinite and NaN vectors do not normalise either.
+  CHECK(plume::none(V::INF.try_normalize().valid));
+  CHECK(plume::none(V::QNAN.try_normalize().valid));
+  // A tiny vector whose squared length underflows is reported invalid, not NaN.
+  V const tiny = V::splat(splat<T>(std::numeric_limits<S>::denorm_min()));
+  CHECK(plume::none(tiny.try_normalize().valid));
+  CHECK(plume::none(tiny.normalize_or_zero().is_nan()));
+  // angle_between with a zero vector is 0; clamp_length of zero stays zero.
+  CHECK(plume::all(zero_v.angle_between(V::X) == zero<T>()));
+  CHECK(plume::all(zero_v.clamp_length(one<T>(), two<T>()).cmpeq(V::ZERO).all()));
+  // refract: total internal reflection gives zero.
+  V const grazing = V{one<T>(), splat<T>(S(-0.01)), zero<T>()}.normalize();
+  CHECK(plume::all(grazing.refract(V::Y, splat<T>(S(1.5))).cmpeq(V::ZERO).all()));
+  // slerp of opposite vectors turns through a perpendicular direction at t = 1/2.
+  V const mid = V::X.slerp(V::NEG_X, half<T>());
+  for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+    CHECK(std::abs(double(lane(mid, i).x)) <= 8 * test::eps_v<S>);
+    CHECK(std::abs(double(lane(mid, i).length()) - 1) <= 8 * test::eps_v<S>);
+  }
+  // any_orthonormal_vector at z = -1 and z = -0 (the seams of the formula) stays unit.
+  for (S zz : {S(-1), S(1), S(-0.0), S(0.0)}) {
+    V const n = V{zero<T>(), splat<T>(zz == 0 ? S(1) : S(0)), splat<T>(zz)};
+    V const o = n.any_orthonormal_vector();
+    CHECK(plume::all(plume::abs(o.length() - one<T>()) <= splat<T>(S(8 * test::eps_v<S>))));
+    CHECK(plume::all(plume::abs(o.dot(n)) <= splat<T>(S(8 * test::eps_v<S>))));
+  }
+}
+
+#if PLUME_HAS_BATCHES
+namespace {
+/// Every lane of f(wide inputs) equals f(that lane's scalar inputs), bitwise; inputs mix
+/// random values with zeros, NaN, inf and huge/tiny values in neighbouring lanes.
+template <class T, class F>
+void check_vec3_lanes(char const* name, F f) {
+  using S = scalar_t<T>;
+  std::vector<S> pool = test::adversarial<S>();
+  auto const rnd = test::random_values<S>(200, 77);
+  pool.insert(pool.end(), rnd.begin(), rnd.end());
+  // Mostly ordinary values so that the interesting branches are taken too.
+  for (int k = 0; k < 3; ++k)
+    pool.insert(pool.end(), rnd.begin(), rnd.end());
+  std::size_t failures = 0;
+  auto pick = [&](std::size_t k) {
+    std::array<S, lanes_v<T>> a;
+    for (std::size_t i = 0; i < lanes_v<T>; ++i)
+      a[i] = pool[(k * 13 + i * 7) % pool.size()];
+    return from_array<T>(a);
+  };
+  for (std::size_t k = 0; k < pool.size(); ++k) {
+    GVec3<T> const a{pick(k), pick(k + 1), pick(k + 2)}, b{pick(k + 3), pick(k + 5), pick(k + 8)};
+    T const t = pick(k + 11);
+    auto const wide = f(a, b, t);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      auto const want = f(lane(a, i), lane(b, i), lane(t, i));
+      if (!test::same(test::lane_of(wide, i), want) && failures++ < 3)
+        FAIL_CHECK(name << ": lane " << i << " of " << lanes_v<T> << " differs for a = "
+                        << lane(a, i) << ", b = " << lane(b, i) << ", t = " << lane(t, i));
+    }
+  }
+  CHECK(failures == 0);
+}
+} // namespace
+
+TEMPLATE_LIST_TEST_CASE("every vec3 method is lane-exact", "[math][vec3][lanes]",
+                        test::wide_real_types) {
+  using T = TestType;
+#define V3(expr)                                                                                   \
+  check_vec3_lanes<T>(#expr, []([[maybe_unused]] auto a, [[maybe_unused]] auto b,                  \
+                                [[maybe_unused]] auto t) { return expr; })
+  V3(a + b);
+  V3(a - b);
+  V3(a * b);
+  V3(a / b);
+  V3(a * t);
+  V3(-a);
+  V3(a.dot(b));
+  V3(a.cross(b));
+  V3(a.length());
+  V3(a.length_squared());
+  V3(a.length_recip());
+  V3(a.distance(b));
+  V3(a.distance_squared(b));
+  V3(a.normalize());
+  V3(a.normalize_or_zero());
+  V3(a.normalize_or(b));
+  V3(a.try_normalize().value);
+  V3(a.try_normalize().valid);
+  V3(a.normalize_and_length().value);
+  V3(a.normalize_and_length().length);
+  V3(a.is_normalized());
+  V3(a.project_onto(b));
+  V3(a.reject_from(b));
+  V3(a.project_onto_normalized(b));
+  V3(a.reject_from_normalized(b));
+  V3(a.reflect(b));
+  V3(a.refract(b, t));
+  V3(a.angle_between(b));
+  V3(a.any_orthogonal_vector());
+  V3(a.any_orthonormal_vector());
+  V3(a.any_orthonormal_pair());
+  V3(a.clamp_length(plume::abs(t), plume::abs(t) * 2));
+  V3(a.clamp_length_max(t));
+  V3(a.clamp_length_min(t));
+  V3(a.lerp(b, t));
+  V3(a.midpoint(b));
+  V3(a.move_towards(b, t));
+  V3(a.slerp(b, t));
+  V3(a.min(b));
+  V3(a.max(b));
+  V3(a.clamp(b, b + decltype(a)::splat(plume::abs(t))));
+  V3(a.min_element());
+  V3(a.max_element());
+  V3(a.element_sum());
+  V3(a.element_product());
+  V3(a.abs());
+  V3(a.signum());
+  V3(a.copysign(b));
+  V3(a.floor());
+  V3(a.ceil());
+  V3(a.round());
+  V3(a.trunc());
+  V3(a.fract());
+  V3(a.recip());
+  V3(a.mul_add(b, a));
+  V3(a.cmpeq(b));
+  V3(a.cmplt(b));
+  V3(a.cmpge(b));
+  V3(a.is_finite());
+  V3(a.is_nan());
+  V3(a.abs_diff_eq(b, t));
+#undef V3
+}
+#endif
