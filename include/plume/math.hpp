@@ -1,11 +1,17 @@
 // plume/math.hpp - the geometry layer: generic vectors, quaternions and matrices.
 //
 //   GVec3<T> (vec3.hpp)  GBVec3<M> (bvec3.hpp)  GQuat<T> (quat.hpp)  GMat3<T> (mat3.hpp)
+//   GIso3<T> (iso3.hpp)  GDir3<T> (dir3.hpp)    GAabb3<T> (aabb3.hpp) AoS <-> SoA (pack.hpp)
+// Eigen conversions: <plume/math/eigen.hpp> (not included here).
 // Each works for scalar and wide element types with one code path; aliases Vec3, DVec3,
 // Vec3x8, Vec3xN, Quat, Mat3x4, ... name the common instantiations.
 #pragma once
 
+#include <plume/math/aabb3.hpp>
 #include <plume/math/bvec3.hpp>
+#include <plume/math/dir3.hpp>
+#include <plume/math/iso3.hpp>
 #include <plume/math/mat3.hpp>
+#include <plume/math/pack.hpp>
 #include <plume/math/quat.hpp>
 #include <plume/math/vec3.hpp>
