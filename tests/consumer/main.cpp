@@ -2,6 +2,7 @@
 // numbers are right.
 #include <plume/plume.hpp>
 
+#include <cmath>
 #include <cstdio>
 
 template <plume::Real T>
@@ -19,5 +20,16 @@ int main() {
   bool lanes_equal = true;
   for (std::size_t i = 0; i < plume::lanes_v<plume::f32xN>; ++i)
     lanes_equal = lanes_equal && plume::lane(many, i) == one;
-  return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f) ? 0 : 1;
+  // The README's geometry example.
+  using namespace plume;
+  Vec3 const my_vec3_array[16] = {{1, 0, 0}, {0, 2, 0}, {0, 0, 3}};
+  Vec3xN const dirs = pack<f32xN>(my_vec3_array);
+  QuatxN const rot = QuatxN(Quat::from_axis_angle(Vec3::Y, 0.5f));
+  Vec3xN const turned = rot * dirs.normalize_or_zero();
+  auto [unit, ok] = turned.try_normalize();
+  Vec3 const first = lane(turned, 0);
+  bool const geometry_ok = plume::lane(ok, 0) && std::abs(first.length() - 1.0f) < 1e-6f &&
+                           std::abs(lane(unit, 0).y) < 1e-6f;
+  std::printf("consumer: first turned direction (%g, %g, %g)\n", first.x, first.y, first.z);
+  return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok) ? 0 : 1;
 }

@@ -237,6 +237,10 @@ struct GQuat {
     GQuat const e = select(flip, -end, end);
     d = plume::abs(d);
     mask_t<T> const near = d > plume::one<T>() - plume::epsilon<T>();
+    if constexpr (ScalarReal<T>) {
+      // Scalars skip the branch they do not take; the value is the one select() would pick.
+      if (near) return lerp(e, t);
+    }
     T const theta = plume::acos(plume::min(d, plume::one<T>()));
     T const s = plume::select(near, plume::one<T>(), plume::sin(theta));
     T const s0 = plume::sin(theta * (plume::one<T>() - t)) / s, s1 = plume::sin(theta * t) / s;

@@ -302,6 +302,24 @@ struct GVec3 {
     T const la = length(), lb = b.length();
     T const c = dot(b) / (la * lb);
     T const target_len = plume::lerp(la, lb, t);
+    T const limit =
+        plume::splat<T>(scalar_type(1) - scalar_type(sizeof(scalar_type) == 4 ? 3e-7 : 1e-15));
+    mask_t<T> const general_case = plume::abs(c) < limit, opposite = c < plume::zero<T>();
+    // Nearly parallel: lerp. Scalars compute only the branch they take (the value select()
+    // picks for wide lanes, bit for bit).
+    GVec3 const near = lerp(b, t);
+    if constexpr (ScalarReal<T>) {
+      if (!general_case && !opposite) return near;
+    }
+    // Opposite: rotate this by pi t about a unit axis k perpendicular to it (Rodrigues with
+    // k . v = 0: v cos + (k x v) sin).
+    GVec3 const k = any_orthogonal_vector().normalize();
+    T const ang = plume::pi<T>() * t;
+    GVec3 const rotated =
+        (*this * plume::cos(ang) + k.cross(*this) * plume::sin(ang)) * (target_len / la);
+    if constexpr (ScalarReal<T>) {
+      if (!general_case) return rotated;
+    }
     // General case; the angle from atan2(|a x b|, a . b), accurate near 0 and pi where acos
     // of the rounded cosine is not.
     T const theta = plume::atan2(cross(b).length(), dot(b));
@@ -309,16 +327,7 @@ struct GVec3 {
     T const w0 = plume::sin(theta * (plume::one<T>() - t)) / s;
     T const w1 = plume::sin(theta * t) / s;
     GVec3 const general = (*this * (target_len / la)) * w0 + (b * (target_len / lb)) * w1;
-    // Opposite: rotate this by pi t about a unit axis k perpendicular to it (Rodrigues with
-    // k . v = 0: v cos + (k x v) sin).
-    GVec3 const k = any_orthogonal_vector().normalize();
-    T const ang = plume::pi<T>() * t;
-    GVec3 const rotated =
-        (*this * plume::cos(ang) + k.cross(*this) * plume::sin(ang)) * (target_len / la);
-    T const limit =
-        plume::splat<T>(scalar_type(1) - scalar_type(sizeof(scalar_type) == 4 ? 3e-7 : 1e-15));
-    return select(plume::abs(c) < limit, general,
-                  select(c < plume::zero<T>(), rotated, lerp(b, t)));
+    return select(general_case, general, select(opposite, rotated, near));
   }
 };
 
