@@ -23,8 +23,9 @@ struct GAabb3 {
   GVec3<T> min, max;
 
   /// EMPTY.
-  GAabb3() noexcept : min(GVec3<T>::INF), max(GVec3<T>::NEG_INF) {}
-  GAabb3(GVec3<T> const& lo, GVec3<T> const& hi) noexcept : min(lo), max(hi) {}
+  constexpr GAabb3() noexcept
+      : min(GVec3<T>::splat(plume::infinity<T>())), max(GVec3<T>::splat(-plume::infinity<T>())) {}
+  constexpr GAabb3(GVec3<T> const& lo, GVec3<T> const& hi) noexcept : min(lo), max(hi) {}
 
   static GAabb3 const EMPTY;
 

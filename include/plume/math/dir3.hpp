@@ -22,7 +22,7 @@ public:
   using scalar_type = scalar_t<T>;
 
   /// +X.
-  GDir3() noexcept : v_(GVec3<T>::X) {}
+  constexpr GDir3() noexcept : v_(plume::one<T>(), plume::zero<T>(), plume::zero<T>()) {}
   template <class U>
   requires(is_batch_v<T>&& std::same_as<U, scalar_type>) explicit GDir3(GDir3<U> const& d) noexcept
       : v_(GVec3<T>(d.as_vec3())) {}
@@ -43,7 +43,7 @@ public:
     return c.value;
   }
   /// The caller promises |v| = 1.
-  static GDir3 from_unchecked(GVec3<T> const& v) noexcept {
+  static constexpr GDir3 from_unchecked(GVec3<T> const& v) noexcept {
     GDir3 d;
     d.v_ = v;
     return d;
@@ -81,17 +81,23 @@ private:
 };
 
 template <Float T>
-inline GDir3<T> const GDir3<T>::X = GDir3<T>::from_unchecked(GVec3<T>::X);
+inline GDir3<T> const GDir3<T>::X = GDir3<T>::from_unchecked(GVec3<T>{
+    plume::one<T>(), plume::zero<T>(), plume::zero<T>()});
 template <Float T>
-inline GDir3<T> const GDir3<T>::Y = GDir3<T>::from_unchecked(GVec3<T>::Y);
+inline GDir3<T> const GDir3<T>::Y = GDir3<T>::from_unchecked(GVec3<T>{
+    plume::zero<T>(), plume::one<T>(), plume::zero<T>()});
 template <Float T>
-inline GDir3<T> const GDir3<T>::Z = GDir3<T>::from_unchecked(GVec3<T>::Z);
+inline GDir3<T> const GDir3<T>::Z = GDir3<T>::from_unchecked(GVec3<T>{
+    plume::zero<T>(), plume::zero<T>(), plume::one<T>()});
 template <Float T>
-inline GDir3<T> const GDir3<T>::NEG_X = GDir3<T>::from_unchecked(GVec3<T>::NEG_X);
+inline GDir3<T> const GDir3<T>::NEG_X = GDir3<T>::from_unchecked(GVec3<T>{
+    -plume::one<T>(), plume::zero<T>(), plume::zero<T>()});
 template <Float T>
-inline GDir3<T> const GDir3<T>::NEG_Y = GDir3<T>::from_unchecked(GVec3<T>::NEG_Y);
+inline GDir3<T> const GDir3<T>::NEG_Y = GDir3<T>::from_unchecked(GVec3<T>{
+    plume::zero<T>(), -plume::one<T>(), plume::zero<T>()});
 template <Float T>
-inline GDir3<T> const GDir3<T>::NEG_Z = GDir3<T>::from_unchecked(GVec3<T>::NEG_Z);
+inline GDir3<T> const GDir3<T>::NEG_Z = GDir3<T>::from_unchecked(GVec3<T>{
+    plume::zero<T>(), plume::zero<T>(), -plume::one<T>()});
 
 using Dir3 = GDir3<float>;
 using DDir3 = GDir3<double>;

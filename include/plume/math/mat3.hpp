@@ -25,8 +25,8 @@ struct GMat3 {
   GVec3<T> x_axis, y_axis, z_axis;
 
   /// The zero matrix.
-  GMat3() noexcept = default;
-  GMat3(GVec3<T> const& x, GVec3<T> const& y, GVec3<T> const& z) noexcept
+  constexpr GMat3() noexcept = default;
+  constexpr GMat3(GVec3<T> const& x, GVec3<T> const& y, GVec3<T> const& z) noexcept
       : x_axis(x), y_axis(y), z_axis(z) {}
   /// Every lane set to the scalar matrix m (wide matrices only).
   template <class U>
@@ -200,11 +200,15 @@ struct GMat3 {
 };
 
 template <Real T>
-inline GMat3<T> const GMat3<T>::IDENTITY = {GVec3<T>::X, GVec3<T>::Y, GVec3<T>::Z};
+inline GMat3<T> const GMat3<T>::IDENTITY = {{plume::one<T>(), plume::zero<T>(), plume::zero<T>()},
+                                            {plume::zero<T>(), plume::one<T>(), plume::zero<T>()},
+                                            {plume::zero<T>(), plume::zero<T>(), plume::one<T>()}};
 template <Real T>
 inline GMat3<T> const GMat3<T>::ZERO = {};
 template <Real T>
-inline GMat3<T> const GMat3<T>::QNAN = {GVec3<T>::QNAN, GVec3<T>::QNAN, GVec3<T>::QNAN};
+inline GMat3<T> const GMat3<T>::QNAN = {GVec3<T>::splat(plume::nan<T>()),
+                                        GVec3<T>::splat(plume::nan<T>()),
+                                        GVec3<T>::splat(plume::nan<T>())};
 
 using Mat3 = GMat3<float>;
 using DMat3 = GMat3<double>;

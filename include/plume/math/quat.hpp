@@ -33,9 +33,9 @@ struct GQuat {
   T x, y, z, w;
 
   /// The identity rotation.
-  GQuat() noexcept
+  constexpr GQuat() noexcept
       : x(plume::zero<T>()), y(plume::zero<T>()), z(plume::zero<T>()), w(plume::one<T>()) {}
-  GQuat(T x_, T y_, T z_, T w_) noexcept : x(x_), y(y_), z(z_), w(w_) {}
+  constexpr GQuat(T x_, T y_, T z_, T w_) noexcept : x(x_), y(y_), z(z_), w(w_) {}
   template <class U>
   requires(is_batch_v<T>&& std::same_as<U, scalar_type>) explicit GQuat(GQuat<U> const& q) noexcept
       : x(q.x), y(q.y), z(q.z), w(q.w) {}

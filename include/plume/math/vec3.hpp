@@ -39,18 +39,20 @@ struct GVec3 {
   T x, y, z;
 
   /// Zero.
-  GVec3() noexcept : x(plume::zero<T>()), y(plume::zero<T>()), z(plume::zero<T>()) {}
-  GVec3(T x_, T y_, T z_) noexcept : x(x_), y(y_), z(z_) {}
+  constexpr GVec3() noexcept : x(plume::zero<T>()), y(plume::zero<T>()), z(plume::zero<T>()) {}
+  constexpr GVec3(T x_, T y_, T z_) noexcept : x(x_), y(y_), z(z_) {}
   /// Every lane set to the scalar vector v (wide vectors only).
   template <class U>
   requires(is_batch_v<T>&& std::same_as<U, scalar_type>) explicit GVec3(GVec3<U> const& v) noexcept
       : x(v.x), y(v.y), z(v.z) {}
 
-  static GVec3 splat(T v) noexcept { return {v, v, v}; }
+  static constexpr GVec3 splat(T v) noexcept { return {v, v, v}; }
   static GVec3 from_array(std::array<T, 3> const& a) noexcept { return {a[0], a[1], a[2]}; }
   std::array<T, 3> to_array() const noexcept { return {x, y, z}; }
 
   // Constants (defined below the class). NAN/INFINITY are <cmath> macros: QNAN, INF.
+  // For scalar T they are constant-initialised; for batches they are initialised before
+  // main in unspecified order: do not read them from other static initialisers.
   static GVec3 const ZERO, ONE, NEG_ONE, X, Y, Z, NEG_X, NEG_Y, NEG_Z, MIN, MAX, QNAN, INF, NEG_INF;
   static GVec3 const AXES[3];
 
@@ -360,7 +362,9 @@ inline GVec3<T> const GVec3<T>::INF = GVec3<T>::splat(plume::infinity<T>());
 template <Num T>
 inline GVec3<T> const GVec3<T>::NEG_INF = GVec3<T>::splat(-plume::infinity<T>());
 template <Num T>
-inline GVec3<T> const GVec3<T>::AXES[3] = {GVec3<T>::X, GVec3<T>::Y, GVec3<T>::Z};
+inline GVec3<T> const GVec3<T>::AXES[3] = {{plume::one<T>(), plume::zero<T>(), plume::zero<T>()},
+                                           {plume::zero<T>(), plume::one<T>(), plume::zero<T>()},
+                                           {plume::zero<T>(), plume::zero<T>(), plume::one<T>()}};
 
 // Aliases: one per element type.
 using Vec3 = GVec3<float>;

@@ -21,7 +21,7 @@ namespace plume {
 
 #define PLUME_CONSTANT(name, concept_, value)                                                      \
   template <concept_ T>                                                                            \
-  PLUME_INLINE T name() noexcept {                                                                 \
+  PLUME_INLINE constexpr T name() noexcept {                                                       \
     using S = scalar_t<T>;                                                                         \
     return splat<T>(value);                                                                        \
   }

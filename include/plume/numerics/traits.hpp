@@ -130,7 +130,7 @@ using int_t = rebind_t<T, typename detail::int_of_size<sizeof(scalar_t<T>)>::typ
 
 /// Every lane set to s (converted to the lane type).
 template <class T, class S>
-PLUME_INLINE T splat(S s) noexcept {
+PLUME_INLINE constexpr T splat(S s) noexcept {
   if constexpr (is_batch_v<T>) {
     return T(static_cast<scalar_t<T>>(s));
   } else {

@@ -1,0 +1,177 @@
+// The 2D types: GVec2, GRot2, GIso2, GMat2, GAabb2 — identities against their 3D or closed
+// forms, degenerate input and lane-exactness.
+#include "math_support.hpp"
+
+using namespace plume;
+
+namespace {
+template <class T>
+GVec2<T> rand_vec2(test::rng& r, double lo = -10, double hi = 10) {
+  return {r.elem<T>(lo, hi), r.elem<T>(lo, hi)};
+}
+} // namespace
+
+TEMPLATE_LIST_TEST_CASE("vec2 and rot2 identities", "[math][2d]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  double const eps = test::eps_v<S>;
+  test::rng r(21);
+  for (int it = 0; it < 200; ++it) {
+    auto const a = rand_vec2<T>(r), b = rand_vec2<T>(r);
+    T const ang1 = r.elem<T>(-3, 3), ang2 = r.elem<T>(-3, 3);
+    // perp_dot is the z of the 3D cross product; perp is perpendicular and of equal length.
+    auto const pd = a.perp_dot(b);
+    auto const c3 = GVec3<T>{a.x, a.y, zero<T>()}.cross(GVec3<T>{b.x, b.y, zero<T>()});
+    auto const pa = a.perp();
+    // Rotations compose by adding angles and preserve length; from_angle . rotate agree.
+    auto const r1 = GRot2<T>::from_angle(ang1), r2 = GRot2<T>::from_angle(ang2);
+    auto const r12 = r1 * r2;
+    auto const ra = r1 * a, rb = GVec2<T>::from_angle(ang1).rotate(a);
+    auto const back = r1.inverse_mul_vec2(ra);
+    auto const at = a.angle_to(ra);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      auto const ai = lane(a, i);
+      double const la = ai.length(), lb = lane(b, i).length();
+      CHECK(test::same(lane(pd, i), lane(c3.z, i)));
+      CHECK(std::abs(double(lane(pa, i).dot(ai))) == 0);
+      CHECK(lane(pa, i).length() == ai.length());
+      double const want = double(lane(ang1, i)) + double(lane(ang2, i));
+      GVec2<S> const r12v{lane(r12.cos, i), lane(r12.sin, i)};
+      INFO("angles " << lane(ang1, i) << " + " << lane(ang2, i));
+      CHECK(std::abs(double(r12v.x) - std::cos(want)) <= 8 * eps);
+      CHECK(std::abs(double(r12v.y) - std::sin(want)) <= 8 * eps);
+      CHECK(std::abs(double(lane(ra, i).length()) - la) <= 8 * eps * la);
+      CHECK(double((lane(ra, i) - lane(rb, i)).length()) <= 4 * eps * la);
+      CHECK(double((lane(back, i) - ai).length()) <= 8 * eps * la);
+      // angle_to recovers the rotation angle (mod 2 pi).
+      double d = double(lane(at, i)) - double(lane(ang1, i));
+      d = std::remainder(d, 2 * std::numbers::pi);
+      CHECK(std::abs(d) <= 64 * eps);
+      (void)lb;
+    }
+  }
+  // slerp of rotations turns at constant speed along the shorter way.
+  auto const from = GRot2<T>::from_angle(splat<T>(S(0.5))),
+             to = GRot2<T>::from_angle(splat<T>(S(-2.5)));
+  auto const mid = from.slerp(to, half<T>());
+  for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+    // shortest path from 0.5 to -2.5 is -3.0 (not +3.28), half way: -1.0
+    CHECK(std::abs(double(lane(mid.angle(), i)) + 1.0) <= 64 * eps);
+  }
+  // Degenerate: a zero rotation pair normalises to IDENTITY; zero vector angle is 0.
+  CHECK(plume::all(GRot2<T>{zero<T>(), zero<T>()}.normalize().cos == one<T>()));
+  CHECK(plume::all(GVec2<T>::ZERO.to_angle() == zero<T>()));
+  CHECK(plume::none(GVec2<T>::ZERO.try_normalize().valid));
+}
+
+TEMPLATE_LIST_TEST_CASE("iso2, mat2 and aabb2", "[math][2d]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  using V = GVec2<T>;
+  double const eps = test::eps_v<S>;
+  test::rng r(22);
+  for (int it = 0; it < 100; ++it) {
+    GIso2<T> const a{GRot2<T>::from_angle(r.elem<T>(-3, 3)), rand_vec2<T>(r)},
+        b{GRot2<T>::from_angle(r.elem<T>(-3, 3)), rand_vec2<T>(r)};
+    V const p = rand_vec2<T>(r);
+    auto const lhs = (a * b) * p, rhs = a * (b * p), inv = a.inverse() * (a * p),
+               rel = a.inv_mul(b) * p, rel2 = (a.inverse() * b) * p;
+    // Well-conditioned 2x2: rotation times diag in [0.5, 2].
+    auto const m = GRot2<T>::from_angle(r.elem<T>(-3, 3)).to_mat2() *
+                   GMat2<T>::from_diagonal(rand_vec2<T>(r, 0.5, 2));
+    auto const mi = m * m.inverse();
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      double const scale =
+          32 * eps *
+          (lane(p, i).length() + lane(a.translation, i).length() + lane(b.translation, i).length());
+      CHECK(double((lane(lhs, i) - lane(rhs, i)).length()) <= scale);
+      CHECK(double((lane(inv, i) - lane(p, i)).length()) <= scale);
+      CHECK(double((lane(rel, i) - lane(rel2, i)).length()) <= scale);
+      auto const e = lane(mi, i);
+      CHECK(std::abs(double(e.x_axis.x) - 1) <= 32 * eps);
+      CHECK(std::abs(double(e.y_axis.y) - 1) <= 32 * eps);
+      CHECK(std::abs(double(e.x_axis.y)) <= 32 * eps);
+      CHECK(std::abs(double(e.y_axis.x)) <= 32 * eps);
+    }
+    // The oriented box's bound holds its corners.
+    V const h = rand_vec2<T>(r, 0.1, 3);
+    auto const box = GAabb2<T>::from_obb(a, h).grow(splat<T>(S(64 * eps * 20)));
+    for (int c = 0; c < 4; ++c)
+      CHECK(plume::all(box.contains(a * V{(c & 1) ? h.x : -h.x, (c & 2) ? h.y : -h.y})));
+  }
+  GMat2<T> const singular{V::X, V::X};
+  CHECK(plume::none(singular.try_inverse().valid));
+  CHECK(plume::all(singular.inverse_or_zero().abs_diff_eq(GMat2<T>::ZERO, zero<T>())));
+  auto const unit = GAabb2<T>::from_center_half_extents(V::ZERO, V::ONE);
+  CHECK(plume::all(unit.area() == splat<T>(S(4))));
+  CHECK(plume::all(unit.perimeter() == splat<T>(S(8))));
+  CHECK(plume::all(unit.contains(V::ONE)));
+  CHECK(plume::none(unit.contains(V::QNAN)));
+  CHECK(plume::none(GAabb2<T>::EMPTY.is_valid()));
+  CHECK(plume::all(GAabb2<T>::EMPTY.merge(unit).is_valid()));
+}
+
+#if PLUME_HAS_BATCHES
+namespace {
+template <class T, class F>
+void check_2d_lanes(char const* name, F f) {
+  using S = scalar_t<T>;
+  std::vector<S> pool = test::adversarial<S>();
+  auto const rnd = test::random_values<S>(200, 91);
+  for (int k = 0; k < 3; ++k)
+    pool.insert(pool.end(), rnd.begin(), rnd.end());
+  auto pick = [&](std::size_t k) {
+    std::array<S, lanes_v<T>> a;
+    for (std::size_t i = 0; i < lanes_v<T>; ++i)
+      a[i] = pool[(k * 13 + i * 7) % pool.size()];
+    return from_array<T>(a);
+  };
+  std::size_t failures = 0;
+  for (std::size_t k = 0; k < pool.size(); ++k) {
+    GVec2<T> const a{pick(k), pick(k + 1)}, b{pick(k + 3), pick(k + 5)};
+    T const t = pick(k + 11);
+    auto const wide = f(a, b, t);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      auto const want = f(lane(a, i), lane(b, i), lane(t, i));
+      if (!test::same(test::lane_of(wide, i), want) && failures++ < 3)
+        FAIL_CHECK(name << ": lane " << i << " differs for a = " << lane(a, i)
+                        << ", b = " << lane(b, i) << ", t = " << lane(t, i));
+    }
+  }
+  CHECK(failures == 0);
+}
+} // namespace
+
+TEMPLATE_LIST_TEST_CASE("every 2D method is lane-exact", "[math][2d][lanes]",
+                        test::wide_real_types) {
+  using T = TestType;
+#define L2D(expr)                                                                                  \
+  check_2d_lanes<T>(#expr, []([[maybe_unused]] auto a, [[maybe_unused]] auto b,                    \
+                              [[maybe_unused]] auto t) { return expr; })
+  L2D(a.dot(b));
+  L2D(a.perp_dot(b));
+  L2D(GVec3<decltype(t)>(a.perp().x, a.perp().y, t));
+  L2D(a.length());
+  L2D(a.normalize_or_zero().x);
+  L2D(a.try_normalize().valid);
+  L2D(a.angle_to(b));
+  L2D(a.to_angle());
+  L2D(decltype(a)::from_angle(t).y);
+  L2D(a.rotate(b).x);
+  L2D(a.reflect(b).y);
+  L2D(a.project_onto(b).x);
+  L2D(a.move_towards(b, t).x);
+  L2D(a.clamp_length(plume::abs(t), plume::abs(t) * 2).y);
+  L2D(a.lerp(b, t).x);
+  L2D(a.min(b).x);
+  L2D(a.max(b).y);
+  L2D(a.abs_diff_eq(b, t));
+  L2D(GRot2<decltype(t)>::from_angle(t).slerp(GRot2<decltype(t)>::from_angle(a.x), b.y).sin);
+  L2D(GRot2<decltype(t)>(a.x, a.y).normalize().cos);
+  L2D((GRot2<decltype(t)>::from_angle(t) * b).x);
+  L2D(GMat2<decltype(t)>(a, b).inverse().x_axis.y);
+  L2D(GMat2<decltype(t)>(a, b).try_inverse().valid);
+  L2D(GMat2<decltype(t)>(a, b).determinant());
+#undef L2D
+}
+#endif
