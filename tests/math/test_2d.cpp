@@ -2,6 +2,8 @@
 // forms, degenerate input and lane-exactness.
 #include "math_support.hpp"
 
+#include <Eigen/Dense>
+
 using namespace plume;
 
 namespace {
@@ -175,3 +177,63 @@ TEMPLATE_LIST_TEST_CASE("every 2D method is lane-exact", "[math][2d][lanes]",
 #undef L2D
 }
 #endif
+
+TEMPLATE_LIST_TEST_CASE("mat4 against Eigen and its identities", "[math][mat4]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  using V4 = GVec4<T>;
+  double const eps = test::eps_v<S>;
+  test::rng r(23);
+  auto rand4 = [&](double lo, double hi) {
+    return V4{r.elem<T>(lo, hi), r.elem<T>(lo, hi), r.elem<T>(lo, hi), r.elem<T>(lo, hi)};
+  };
+  for (int it = 0; it < 200; ++it) {
+    GMat4<T> const a{rand4(-1, 1), rand4(-1, 1), rand4(-1, 1), rand4(-1, 1)};
+    GMat4<T> const b{rand4(-1, 1), rand4(-1, 1), rand4(-1, 1), rand4(-1, 1)};
+    auto const ab = a * b, ai = a.inverse();
+    auto const det = a.determinant(), dab = ab.determinant(), db = b.determinant();
+    // An affine pose: scale, rotation, translation; its inverse undoes transform_point3.
+    auto const pose =
+        GMat4<T>::from_scale_rotation_translation(r.vec3<T>(0.5, 2), r.quat<T>(), r.vec3<T>());
+    auto const p = r.vec3<T>();
+    auto const back = pose.inverse().transform_point3(pose.transform_point3(p));
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      Eigen::Matrix4d ea, eb;
+      auto const la = lane(a, i), lb = lane(b, i);
+      for (std::size_t p_ = 0; p_ < 4; ++p_)
+        for (std::size_t q_ = 0; q_ < 4; ++q_) {
+          ea(long(p_), long(q_)) = double(la.at(p_, q_));
+          eb(long(p_), long(q_)) = double(lb.at(p_, q_));
+        }
+      Eigen::Matrix4d ep;
+      auto const lab = lane(ab, i), lai = lane(ai, i);
+      for (std::size_t p_ = 0; p_ < 4; ++p_)
+        for (std::size_t q_ = 0; q_ < 4; ++q_)
+          ep(long(p_), long(q_)) = double(lab.at(p_, q_));
+      CHECK((ep - ea * eb).norm() <= 8 * eps * ea.norm() * eb.norm());
+      double const na = ea.norm();
+      CHECK(std::abs(double(lane(det, i)) - ea.determinant()) <= 64 * eps * na * na * na * na);
+      CHECK(std::abs(double(lane(dab, i)) - double(lane(det, i)) * double(lane(db, i))) <=
+            128 * eps * std::pow(na * eb.norm(), 4));
+      Eigen::Matrix4d const einv = ea.inverse();
+      double const cond = na * einv.norm();
+      if (cond < 1e3) {
+        Eigen::Matrix4d pi;
+        for (std::size_t p_ = 0; p_ < 4; ++p_)
+          for (std::size_t q_ = 0; q_ < 4; ++q_)
+            pi(long(p_), long(q_)) = double(lai.at(p_, q_));
+        INFO("cond " << cond);
+        CHECK((pi - einv).norm() <= 32 * eps * cond * einv.norm());
+      }
+      CHECK(double((lane(back, i) - lane(p, i)).length()) <= 64 * eps * (lane(p, i).length() + 10));
+    }
+  }
+  GMat4<T> const singular{V4::X, V4::X, V4::Z, V4::W};
+  CHECK(plume::none(singular.try_inverse().valid));
+  CHECK(plume::all(singular.inverse_or_zero().abs_diff_eq(GMat4<T>::ZERO, zero<T>())));
+  CHECK(plume::all(GMat4<T>::IDENTITY.inverse().abs_diff_eq(GMat4<T>::IDENTITY, zero<T>())));
+  CHECK(plume::all(GMat4<T>::from_translation(GVec3<T>::ONE)
+                       .transform_vector3(GVec3<T>::X)
+                       .cmpeq(GVec3<T>::X)
+                       .all()));
+}
