@@ -80,12 +80,23 @@ bool same(A const& a, A const& b) {
     return a == b;
   else if constexpr (std::is_floating_point_v<A>)
     return same_bits(a, b);
-  else if constexpr (requires { a.x_axis; })
+  else if constexpr (requires { a.w_axis; })
+    return same(a.x_axis, b.x_axis) && same(a.y_axis, b.y_axis) && same(a.z_axis, b.z_axis) &&
+           same(a.w_axis, b.w_axis);
+  else if constexpr (requires { a.z_axis; })
     return same(a.x_axis, b.x_axis) && same(a.y_axis, b.y_axis) && same(a.z_axis, b.z_axis);
+  else if constexpr (requires { a.x_axis; })
+    return same(a.x_axis, b.x_axis) && same(a.y_axis, b.y_axis);
+  else if constexpr (requires { a.rotation; })
+    return same(a.rotation, b.rotation) && same(a.translation, b.translation);
+  else if constexpr (requires { a.cos; })
+    return same(a.cos, b.cos) && same(a.sin, b.sin);
   else if constexpr (requires { a.w; })
     return same(a.x, b.x) && same(a.y, b.y) && same(a.z, b.z) && same(a.w, b.w);
   else if constexpr (requires { a.z; })
     return same(a.x, b.x) && same(a.y, b.y) && same(a.z, b.z);
+  else if constexpr (requires { a.y; })
+    return same(a.x, b.x) && same(a.y, b.y);
   else {
     for (std::size_t k = 0; k < a.size(); ++k)
       if (!same(a[k], b[k])) return false;

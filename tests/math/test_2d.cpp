@@ -237,3 +237,32 @@ TEMPLATE_LIST_TEST_CASE("mat4 against Eigen and its identities", "[math][mat4]",
                        .cmpeq(GVec3<T>::X)
                        .all()));
 }
+
+TEMPLATE_LIST_TEST_CASE("vec4 methods", "[math][vec4]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  using V = GVec4<T>;
+  double const eps = test::eps_v<S>;
+  test::rng r(24);
+  for (int it = 0; it < 100; ++it) {
+    V const a{r.elem<T>(-5, 5), r.elem<T>(-5, 5), r.elem<T>(-5, 5), r.elem<T>(-5, 5)};
+    V const b{r.elem<T>(-5, 5), r.elem<T>(-5, 5), r.elem<T>(-5, 5), r.elem<T>(-5, 5)};
+    auto const p = a.project_onto(b), q = a.reject_from(b);
+    auto const u = a.normalize();
+    auto const cl = a.clamp_length(one<T>(), two<T>());
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      double const la = lane(a, i).length(), lb = lane(b, i).length();
+      CHECK(double((lane(p, i) + lane(q, i) - lane(a, i)).length()) <= 8 * eps * la);
+      CHECK(std::abs(double(lane(q, i).dot(lane(b, i)))) <= 16 * eps * la * lb);
+      CHECK(std::abs(double(lane(u, i).length()) - 1) <= 4 * eps);
+      CHECK(double(lane(cl, i).length()) >= 1 - 4 * eps);
+      CHECK(double(lane(cl, i).length()) <= 2 + 4 * eps);
+    }
+    CHECK(plume::all(GVec4<T>::extend(a.truncate(), a.w).cmpeq(a).all()));
+  }
+  CHECK(plume::none(V::ZERO.try_normalize().valid));
+  CHECK(plume::all(V::ZERO.normalize_or(V::W).cmpeq(V::W).all()));
+  CHECK(plume::all(V::QNAN.is_nan()));
+  CHECK(plume::all(V{one<T>(), -two<T>(), splat<T>(S(3)), zero<T>()}.max_element() ==
+                   splat<T>(S(3))));
+}

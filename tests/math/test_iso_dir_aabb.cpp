@@ -200,7 +200,7 @@ TEMPLATE_TEST_CASE("Eigen interop round trips and zero-copy views", "[math][eige
   GQuat<S> const q = GQuat<S>::from_axis_angle(GVec3<S>::Y, S(0.5));
   CHECK(test::same(from_eigen(to_eigen(q)), q));
   // Eigen's rotation of v equals plume's within a few ulps.
-  auto const ev = to_eigen(q) * to_eigen(v);
+  Eigen::Matrix<S, 3, 1> const ev = to_eigen(q) * to_eigen(v);
   auto const pv = q * v;
   CHECK((ev - to_eigen(pv)).norm() <= 16 * test::eps_v<S> * to_eigen(v).norm());
   GMat3<S> m = GMat3<S>::from_quat(q);
@@ -208,4 +208,20 @@ TEMPLATE_TEST_CASE("Eigen interop round trips and zero-copy views", "[math][eige
   CHECK(as_eigen(m)(0, 2) == m.at(0, 2));
   as_eigen(m)(1, 0) = S(42);
   CHECK(m.x_axis.y == S(42));
+  // 2D and 4D.
+  GVec2<S> v2{S(1), S(-2)};
+  CHECK(test::same(from_eigen(to_eigen(v2)), v2));
+  as_eigen(v2)(1) = S(5);
+  CHECK(v2.y == S(5));
+  GVec4<S> v4{S(1), S(2), S(3), S(4)};
+  CHECK(test::same(from_eigen(to_eigen(v4)), v4));
+  GMat2<S> const m2 = GRot2<S>::from_angle(S(0.3)).to_mat2();
+  CHECK(test::same(from_eigen(to_eigen(m2)), m2));
+  CHECK((to_eigen(m2) * to_eigen(v2) - to_eigen(m2 * v2)).norm() <=
+        8 * test::eps_v<S> * to_eigen(v2).norm());
+  GMat4<S> m4 = GMat4<S>::from_rotation_translation(q, GVec3<S>{S(1), S(2), S(3)});
+  CHECK(test::same(from_eigen(to_eigen(m4)), m4));
+  CHECK(as_eigen(m4)(1, 3) == S(2));                             // translation in column 3
+  Eigen::Matrix<S, 4, 1> const e4 = to_eigen(m4) * to_eigen(v4); // not auto: Eigen expression
+  CHECK((e4 - to_eigen(m4 * v4)).norm() <= 16 * test::eps_v<S> * to_eigen(v4).norm() * 4);
 }

@@ -84,6 +84,15 @@ struct GVec4 {
   friend GVec4 operator/(GVec4 const& a, T s) noexcept requires Real<T> {
     return {a.x / s, a.y / s, a.z / s, a.w / s};
   }
+  friend GVec4 operator*(GVec4 const& a, scalar_type s) noexcept requires is_batch_v<T> {
+    return a * T(s);
+  }
+  friend GVec4 operator+(GVec4 const& a, T s) noexcept {
+    return {a.x + s, a.y + s, a.z + s, a.w + s};
+  }
+  friend GVec4 operator-(GVec4 const& a, T s) noexcept {
+    return {a.x - s, a.y - s, a.z - s, a.w - s};
+  }
   friend GVec4 operator-(GVec4 const& a) noexcept requires Signed<T> {
     return {-a.x, -a.y, -a.z, -a.w};
   }
@@ -97,6 +106,13 @@ struct GVec4 {
   mask_type cmplt(GVec4 const& b) const noexcept { return {x < b.x, y < b.y, z < b.z, w < b.w}; }
   mask_type cmple(GVec4 const& b) const noexcept {
     return {x <= b.x, y <= b.y, z <= b.z, w <= b.w};
+  }
+  mask_type cmpne(GVec4 const& b) const noexcept {
+    return {x != b.x, y != b.y, z != b.z, w != b.w};
+  }
+  mask_type cmpgt(GVec4 const& b) const noexcept { return {x > b.x, y > b.y, z > b.z, w > b.w}; }
+  mask_type cmpge(GVec4 const& b) const noexcept {
+    return {x >= b.x, y >= b.y, z >= b.z, w >= b.w};
   }
   mask_t<T> is_finite() const noexcept requires Float<T> {
     return ((plume::is_finite(x) & plume::is_finite(y)) & plume::is_finite(z)) &
@@ -117,14 +133,76 @@ struct GVec4 {
   GVec4 abs() const noexcept requires Signed<T> {
     return {plume::abs(x), plume::abs(y), plume::abs(z), plume::abs(w)};
   }
+  GVec4 clamp(GVec4 const& lo, GVec4 const& hi) const noexcept { return max(lo).min(hi); }
+  T min_element() const noexcept { return plume::min(plume::min(plume::min(x, y), z), w); }
+  T max_element() const noexcept { return plume::max(plume::max(plume::max(x, y), z), w); }
+  T element_product() const noexcept { return ((x * y) * z) * w; }
+  GVec4 signum() const noexcept requires Signed<T> {
+    return {plume::signum(x), plume::signum(y), plume::signum(z), plume::signum(w)};
+  }
+#define PLUME_VEC4_MAP(name)                                                                       \
+  GVec4 name() const noexcept requires Float<T> {                                                  \
+    return {plume::name(x), plume::name(y), plume::name(z), plume::name(w)};                       \
+  }
+  PLUME_VEC4_MAP(floor)
+  PLUME_VEC4_MAP(ceil)
+  PLUME_VEC4_MAP(round)
+  PLUME_VEC4_MAP(trunc)
+  PLUME_VEC4_MAP(fract)
+  PLUME_VEC4_MAP(recip)
+#undef PLUME_VEC4_MAP
+  GVec4 copysign(GVec4 const& s) const noexcept requires Float<T> {
+    return {plume::copysign(x, s.x), plume::copysign(y, s.y), plume::copysign(z, s.z),
+            plume::copysign(w, s.w)};
+  }
   T element_sum() const noexcept { return ((x + y) + z) + w; }
   T dot(GVec4 const& b) const noexcept { return ((x * b.x + y * b.y) + z * b.z) + w * b.w; }
   T length_squared() const noexcept { return dot(*this); }
   T length() const noexcept requires Real<T> { return plume::sqrt(length_squared()); }
   GVec4 normalize() const noexcept requires Real<T> { return *this * (plume::one<T>() / length()); }
+  T length_recip() const noexcept requires Real<T> { return plume::one<T>() / length(); }
+  T distance(GVec4 const& b) const noexcept requires Real<T> { return (*this - b).length(); }
+  T distance_squared(GVec4 const& b) const noexcept { return (*this - b).length_squared(); }
+  struct normalized {
+    GVec4 value;
+    mask_t<T> valid;
+  };
+  /// {unit vector, true} where 1/length is finite and > 0, else {zero, false}.
+  normalized try_normalize() const noexcept requires Float<T> {
+    T const r = length_recip();
+    mask_t<T> const ok = plume::is_finite(r) & (r > plume::zero<T>());
+    return {select(ok, *this * r, splat(plume::zero<T>())), ok};
+  }
+  GVec4 normalize_or(GVec4 const& fallback) const noexcept requires Float<T> {
+    T const r = length_recip();
+    return select(plume::is_finite(r) & (r > plume::zero<T>()), *this * r, fallback);
+  }
   GVec4 normalize_or_zero() const noexcept requires Float<T> {
-    T const r = plume::one<T>() / length();
-    return select(plume::is_finite(r) & (r > plume::zero<T>()), *this * r, splat(plume::zero<T>()));
+    return normalize_or(splat(plume::zero<T>()));
+  }
+  mask_t<T> is_normalized() const noexcept requires Real<T> {
+    return plume::abs(length_squared() - plume::one<T>()) <= plume::splat<T>(scalar_type(2e-4));
+  }
+  GVec4 project_onto(GVec4 const& b) const noexcept requires Real<T> {
+    return b * (dot(b) / b.length_squared());
+  }
+  GVec4 reject_from(GVec4 const& b) const noexcept requires Real<T> {
+    return *this - project_onto(b);
+  }
+  GVec4 midpoint(GVec4 const& b) const noexcept requires Real<T> {
+    return (*this + b) * plume::half<T>();
+  }
+  GVec4 move_towards(GVec4 const& b, T d) const noexcept requires Real<T> {
+    GVec4 const a = b - *this;
+    T const len = a.length();
+    mask_t<T> const arrive = (len <= d) | (len <= plume::splat<T>(scalar_type(1e-4)));
+    return select(arrive, b, *this + a * (d / len));
+  }
+  GVec4 clamp_length(T lo, T hi) const noexcept requires Float<T> {
+    T const len = length();
+    T const target = plume::clamp(len, lo, hi);
+    mask_t<T> const change = (len != target) & (len > plume::zero<T>());
+    return select(change, *this * (target / len), *this);
   }
   GVec4 lerp(GVec4 const& b, T t) const noexcept requires Real<T> {
     return {plume::lerp(x, b.x, t), plume::lerp(y, b.y, t), plume::lerp(z, b.z, t),
