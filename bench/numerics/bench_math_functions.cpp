@@ -8,8 +8,9 @@
 // with implementation one of
 //   plume   plume's function at T = float/double (x1) and at every batch width of the build
 //   std     the C library (glibc libm), one value at a time
-//   xsimd   xsimd 8.1's own batch function at the widest width of the build
+//   xsimd   xsimd 8.1's own batch function, at each width the build enables
 //   sleef   SLEEF 3.5, 1.0-ulp (u10) versions, at each width the build enables
+//   sleef_u35  SLEEF's 3.5-ulp versions where SLEEF has them (not exp, pow, sqrt)
 //   eigen   Eigen 3.4 array functions (its own vectorisation at the build's flags)
 // The x1 loops evaluate one value at a time: the benchmarks are compiled without the
 // auto-vectoriser (bench/CMakeLists.txt), so x1 is the scalar cost and the width ratios are
@@ -86,8 +87,8 @@ void binary(benchmark::State& st, domain dx, domain dy, F f) {
   inputs<S> in(dx, dy);
   for (auto _ : st) {
     for (std::size_t i = 0; i < N; i += plume::lanes_v<T>)
-      plume::store_aligned(in.out.p + i,
-                           f(plume::load_aligned<T>(in.x.p + i), plume::load_aligned<T>(in.y.p + i)));
+      plume::store_aligned(
+          in.out.p + i, f(plume::load_aligned<T>(in.x.p + i), plume::load_aligned<T>(in.y.p + i)));
     benchmark::DoNotOptimize(in.out.p);
     benchmark::ClobberMemory();
   }
@@ -215,6 +216,24 @@ void register_xsimd_width() {
       name(#FN, type_name<T>(), "sleef", plume::lanes_v<T>).c_str(), [](benchmark::State& st) {    \
         binary<T>(st, DX, DY, [](T a, T b) { return T(SLEEF_FN(a, b)); });                         \
       })
+#define PLUME_BENCH_SLEEF_U35_UNARY(FN, T, SLEEF_FN, D)                                            \
+  benchmark::RegisterBenchmark(                                                                    \
+      name(#FN, type_name<T>(), "sleef_u35", plume::lanes_v<T>).c_str(),                           \
+      [](benchmark::State& st) { unary<T>(st, D, [](T v) { return T(SLEEF_FN(v)); }); })
+#define PLUME_BENCH_SLEEF_U35_BINARY(FN, T, SLEEF_FN, DX, DY)                                      \
+  benchmark::RegisterBenchmark(name(#FN, type_name<T>(), "sleef_u35", plume::lanes_v<T>).c_str(),  \
+                               [](benchmark::State& st) {                                          \
+                                 binary<T>(st, DX, DY,                                             \
+                                           [](T a, T b) { return T(SLEEF_FN(a, b)); });            \
+                               })
+// SLEEF has 3.5-ulp versions of these (exp and pow exist only as u10).
+#define PLUME_BENCH_SLEEF_U35(T, F)                                                                \
+  PLUME_BENCH_SLEEF_U35_UNARY(sin, T, Sleef_sin##F##_u35, angles);                                 \
+  PLUME_BENCH_SLEEF_U35_UNARY(cos, T, Sleef_cos##F##_u35, angles);                                 \
+  PLUME_BENCH_SLEEF_U35_UNARY(tan, T, Sleef_tan##F##_u35, angles);                                 \
+  PLUME_BENCH_SLEEF_U35_UNARY(asin, T, Sleef_asin##F##_u35, unit);                                 \
+  PLUME_BENCH_SLEEF_U35_BINARY(atan2, T, Sleef_atan2##F##_u35, coords, coords);                    \
+  PLUME_BENCH_SLEEF_U35_UNARY(log, T, Sleef_log##F##_u35, positive)
 #define PLUME_BENCH_SLEEF_ALL(T, F, D4)                                                            \
   PLUME_BENCH_SLEEF_UNARY(sin, T, Sleef_sin##F##_u10, angles);                                     \
   PLUME_BENCH_SLEEF_UNARY(cos, T, Sleef_cos##F##_u10, angles);                                     \
@@ -275,22 +294,32 @@ void register_all() {
 #if PLUME_HAS_BATCHES
   register_plume_width<plume::f32x4>();
   register_plume_width<plume::f64x2>();
+  register_xsimd_width<plume::f32x4>();
+  register_xsimd_width<plume::f64x2>();
   PLUME_BENCH_SLEEF_ALL(plume::f32x4, f4, 0);
   PLUME_BENCH_SLEEF_ALL(plume::f64x2, d2, 0);
+  PLUME_BENCH_SLEEF_U35(plume::f32x4, f4);
+  PLUME_BENCH_SLEEF_U35(plume::f64x2, d2);
 #if PLUME_HAS_AVX2
   register_plume_width<plume::f32x8>();
   register_plume_width<plume::f64x4>();
+  register_xsimd_width<plume::f32x8>();
+  register_xsimd_width<plume::f64x4>();
   PLUME_BENCH_SLEEF_ALL(plume::f32x8, f8, 0);
   PLUME_BENCH_SLEEF_ALL(plume::f64x4, d4, 0);
+  PLUME_BENCH_SLEEF_U35(plume::f32x8, f8);
+  PLUME_BENCH_SLEEF_U35(plume::f64x4, d4);
 #endif
 #if PLUME_HAS_AVX512
   register_plume_width<plume::f32x16>();
   register_plume_width<plume::f64x8>();
+  register_xsimd_width<plume::f32x16>();
+  register_xsimd_width<plume::f64x8>();
   PLUME_BENCH_SLEEF_ALL(plume::f32x16, f16, 0);
   PLUME_BENCH_SLEEF_ALL(plume::f64x8, d8, 0);
+  PLUME_BENCH_SLEEF_U35(plume::f32x16, f16);
+  PLUME_BENCH_SLEEF_U35(plume::f64x8, d8);
 #endif
-  register_xsimd_width<plume::f32xN>();
-  register_xsimd_width<plume::f64xN>();
 #endif
 }
 
