@@ -5,23 +5,9 @@
 #include <plume/numerics.hpp>
 
 #include <tuple>
+#include <utility>
 
 namespace plume::test {
-
-using real_types = std::tuple<float, double
-#if PLUME_HAS_BATCHES
-                              ,
-                              f32x4, f64x2
-#endif
-#if PLUME_HAS_AVX2
-                              ,
-                              f32x8, f64x4
-#endif
-#if PLUME_HAS_AVX512
-                              ,
-                              f32x16, f64x8
-#endif
-                              >;
 
 using wide_real_types = std::tuple<
 #if PLUME_HAS_BATCHES
@@ -36,6 +22,10 @@ using wide_real_types = std::tuple<
     f32x16, f64x8
 #endif
     >;
+
+/// The scalar types and then every wide type.
+using real_types = decltype(std::tuple_cat(std::declval<std::tuple<float, double>>(),
+                                           std::declval<wide_real_types>()));
 
 using int_types = std::tuple<std::int32_t, std::uint32_t
 #if PLUME_HAS_BATCHES

@@ -8,6 +8,8 @@
 #include <plume/math.hpp>
 
 #include <random>
+#include <sstream>
+#include <tuple>
 
 namespace plume::test {
 
@@ -116,5 +118,48 @@ auto lane_of(V const& v, std::size_t i) {
     return out;
   }
 }
+
+/// The lane-exactness check for math values, shared by every math test: for each case k,
+/// make(k) returns a tuple of wide inputs; every lane of f(inputs...) must equal, bitwise,
+/// f applied to that lane of each input. Reports the first three differing lanes with their
+/// inputs.
+template <class T, class Make, class F>
+void check_lanes(char const* name, std::size_t cases, Make make, F f) {
+  std::size_t failures = 0;
+  for (std::size_t k = 0; k < cases; ++k) {
+    auto const in = make(k);
+    auto const wide = std::apply(f, in);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      auto const want = std::apply([&](auto const&... w) { return f(lane_of(w, i)...); }, in);
+      if (!same(lane_of(wide, i), want) && failures++ < 3) {
+        std::ostringstream os;
+        std::apply([&](auto const&... w) { ((os << lane_of(w, i) << "; "), ...); }, in);
+        FAIL_CHECK(name << ": lane " << i << " of " << lanes_v<T> << " differs for inputs "
+                        << os.str());
+      }
+    }
+  }
+  CHECK(failures == 0);
+}
+
+/// Wide values whose lanes come from a pool of adversarial values (0, -0, subnormals, +-inf,
+/// NaN, 1e30, ...) and three times as many ordinary random ones, so that neighbouring lanes
+/// of an ordinary lane are often extreme. pick(k) is a different mix for every k.
+template <class T>
+struct lane_pool {
+  std::vector<scalar_t<T>> pool;
+  explicit lane_pool(std::uint32_t seed) : pool(adversarial<scalar_t<T>>()) {
+    auto const rnd = random_values<scalar_t<T>>(200, seed);
+    for (int k = 0; k < 3; ++k)
+      pool.insert(pool.end(), rnd.begin(), rnd.end());
+  }
+  std::size_t size() const { return pool.size(); }
+  T pick(std::size_t k) const {
+    std::array<scalar_t<T>, lanes_v<T>> a;
+    for (std::size_t i = 0; i < lanes_v<T>; ++i)
+      a[i] = pool[(k * 13 + i * 7) % pool.size()];
+    return from_array<T>(a);
+  }
+};
 
 } // namespace plume::test

@@ -2,6 +2,15 @@
 // forms, degenerate input and lane-exactness.
 #include "math_support.hpp"
 
+#include <plume/math/aabb2.hpp>
+#include <plume/math/bvec2.hpp>
+#include <plume/math/iso2.hpp>
+#include <plume/math/mat2.hpp>
+#include <plume/math/mat4.hpp>
+#include <plume/math/rot2.hpp>
+#include <plume/math/vec2.hpp>
+#include <plume/math/vec4.hpp>
+
 #include <Eigen/Dense>
 
 using namespace plume;
@@ -115,32 +124,17 @@ TEMPLATE_LIST_TEST_CASE("iso2, mat2 and aabb2", "[math][2d]", test::real_types) 
 
 #if PLUME_HAS_BATCHES
 namespace {
+/// Lane-exactness of a 2D expression f(a, b, t) over adversarial lane mixes.
 template <class T, class F>
 void check_2d_lanes(char const* name, F f) {
-  using S = scalar_t<T>;
-  std::vector<S> pool = test::adversarial<S>();
-  auto const rnd = test::random_values<S>(200, 91);
-  for (int k = 0; k < 3; ++k)
-    pool.insert(pool.end(), rnd.begin(), rnd.end());
-  auto pick = [&](std::size_t k) {
-    std::array<S, lanes_v<T>> a;
-    for (std::size_t i = 0; i < lanes_v<T>; ++i)
-      a[i] = pool[(k * 13 + i * 7) % pool.size()];
-    return from_array<T>(a);
-  };
-  std::size_t failures = 0;
-  for (std::size_t k = 0; k < pool.size(); ++k) {
-    GVec2<T> const a{pick(k), pick(k + 1)}, b{pick(k + 3), pick(k + 5)};
-    T const t = pick(k + 11);
-    auto const wide = f(a, b, t);
-    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
-      auto const want = f(lane(a, i), lane(b, i), lane(t, i));
-      if (!test::same(test::lane_of(wide, i), want) && failures++ < 3)
-        FAIL_CHECK(name << ": lane " << i << " differs for a = " << lane(a, i)
-                        << ", b = " << lane(b, i) << ", t = " << lane(t, i));
-    }
-  }
-  CHECK(failures == 0);
+  test::lane_pool<T> const p(91);
+  test::check_lanes<T>(
+      name, p.size(),
+      [&](std::size_t k) {
+        return std::tuple{GVec2<T>{p.pick(k), p.pick(k + 1)},
+                          GVec2<T>{p.pick(k + 3), p.pick(k + 5)}, p.pick(k + 11)};
+      },
+      f);
 }
 } // namespace
 

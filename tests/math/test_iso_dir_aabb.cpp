@@ -1,6 +1,11 @@
 // GIso3, GDir3, GAabb3, AoS <-> SoA packing and the Eigen interop header.
 #include "math_support.hpp"
 
+#include <plume/math/aabb3.hpp>
+#include <plume/math/dir3.hpp>
+#include <plume/math/iso3.hpp>
+#include <plume/math/pack.hpp>
+
 #include <plume/math/eigen.hpp>
 
 using namespace plume;

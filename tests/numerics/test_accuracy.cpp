@@ -4,6 +4,9 @@
 // Wide types are covered by lane-exactness (test_lane_exact.cpp): each lane is the scalar.
 #include "../common/harness.hpp"
 
+#include <plume/numerics/exp_log.hpp>
+#include <plume/numerics/trig.hpp>
+
 #include <cstdio>
 #include <functional>
 

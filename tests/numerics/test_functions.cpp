@@ -3,6 +3,12 @@
 #include "../common/harness.hpp"
 #include "../common/types.hpp"
 
+#include <plume/numerics/approx.hpp>
+#include <plume/numerics/bits.hpp>
+#include <plume/numerics/detail/poly.hpp>
+#include <plume/numerics/functions.hpp>
+#include <plume/numerics/hypot.hpp>
+
 using namespace plume;
 
 namespace {
@@ -152,4 +158,30 @@ TEMPLATE_LIST_TEST_CASE("approximate reciprocal and rsqrt meet their bound", "[n
   }
   CHECK(std::isinf(lane(plume::recip_approx(zero<T>()), 0)));
   CHECK(std::isnan(lane(plume::rsqrt_approx(splat<T>(-1)), 0)));
+}
+
+TEMPLATE_LIST_TEST_CASE("double-word helpers are exact", "[numerics][detail]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  auto const xs = test::random_values<S>(5000, 31), ys = test::random_values<S>(5000, 32);
+  for (std::size_t k = 0; k < xs.size(); ++k) {
+    S const a = xs[k], b = ys[k];
+    if (!std::isfinite(a) || !std::isfinite(b) || std::abs(a) > S(1e30) || std::abs(b) > S(1e30))
+      continue;
+    auto const s = detail::two_sum(splat<T>(a), splat<T>(b));
+    auto const p = detail::two_prod(splat<T>(a), splat<T>(b));
+    // hi + lo equals the exact sum/product (checked in long double, exact for float; for
+    // double the product check is the rounding of the exact value, compared exactly).
+    long double const es = (long double)a + (long double)b;
+    CHECK(test::same_bits(lane(s.hi, 0), S(es)));
+    CHECK((long double)lane(s.hi, 0) + (long double)lane(s.lo, 0) == es);
+    if constexpr (sizeof(S) == 4) {
+      long double const ep = (long double)a * (long double)b;
+      // Dekker's product is exact while the product neither overflows nor underflows.
+      if (std::abs(ep) > 1e-30L && std::abs(ep) < (long double)std::numeric_limits<S>::max() / 4)
+        CHECK((long double)lane(p.hi, 0) + (long double)lane(p.lo, 0) == ep);
+    } else {
+      CHECK(test::same_bits(lane(p.hi, 0), a * b));
+    }
+  }
 }

@@ -2,6 +2,14 @@
 #include "../common/harness.hpp"
 #include "../common/types.hpp"
 
+#include <plume/numerics/concepts.hpp>
+#include <plume/numerics/constants.hpp>
+#include <plume/numerics/mask.hpp>
+#include <plume/numerics/memory.hpp>
+#include <plume/numerics/reduce.hpp>
+#include <plume/numerics/simd.hpp>
+#include <plume/numerics/traits.hpp>
+
 using namespace plume;
 
 // Which types satisfy which concept (the table of DESIGN.md).
