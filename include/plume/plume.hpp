@@ -3,3 +3,4 @@
 
 #include <plume/numerics.hpp>
 #include <plume/math.hpp>
+#include <plume/solver.hpp>

@@ -1,0 +1,448 @@
+// plume/solver/velocity_projection.hpp - the velocity closest to a desired one that does not
+// move into any of a set of contact planes (the sliding step of move-and-slide).
+//
+// Problem: given v and plane normals n_1..n_k (pointing out of the obstacles), find
+//     u = argmin |u - v|^2   subject to   n_i . u >= 0 for every i,
+// the projection of v onto the polyhedral cone of allowed velocities. At the optimum
+// u = v + sum_i lambda_i n_i with lambda_i >= 0 and lambda_i (n_i . u) = 0 (lambda_i is the
+// impulse per unit mass plane i applies); u . (u - v) = 0.
+//
+//   project_velocity(v, normals [, lambda_out], cfg)     the n-step active-set algorithm
+//   project_velocity_bruteforce(v, normals, cfg)         the O(k^3) reference
+//   both for GVec3<T> and GVec2<T>, T scalar or wide.
+//
+// The n-step algorithm (after unpairedbracket's "Velocity Projection", the GJK idea on a
+// cone): keep an active set of at most two planes (one in 2D) whose exact projection u is
+// known; add the most violated plane; replace the active set by the subset of
+// {active, new} (the new plane always kept) that satisfies the optimality conditions on
+// those planes — the apex, a ray (face), a wedge (crease) or the solid wedge (u = 0) — and
+// repeat until no plane is violated by more than cfg.epsilon. Each step is O(k); in practice
+// at most 4 steps. Unlike Avian's version, every step tests the Lagrange multipliers of each
+// candidate subset, so a plane that stops helping is dropped and the answer is the exact
+// projection (up to epsilon) whatever the order in which planes become active.
+//
+// Wide use: lane l projects lane l of v against lane l of every normal. Different lanes may
+// have different plane counts: pad with zero normals (a zero normal is never violated and
+// never changes a result). Every lane runs until all have finished; finished lanes are
+// frozen by masks, and lane l equals, bit for bit, the scalar call on lane l's inputs.
+//
+// Conventions and bad input:
+//  - Normals should be unit length (PlaneSet3/PlaneSet2 build such sets). A nonzero normal
+//    of any length still acts as the plane it defines (the formulas use n . n); only the
+//    violation tolerance scales with |n|. Zero normals are ignored.
+//  - epsilon (velocity units, default 0.005 x length unit / s): a plane counts as violated
+//    when n . u < -epsilon. A v with |v| < epsilon therefore comes back unchanged.
+//  - parallel_epsilon (dimensionless): two planes whose |n_i x n_j|^2 is at most
+//    parallel_epsilon |n_i|^2 |n_j|^2 have no usable crease; three planes whose triple
+//    product squared is at most parallel_epsilon |n_i|^2 |n_j|^2 |n_k|^2 no usable corner.
+//    Exactly opposite planes give the projection onto their common plane.
+//  - Non-finite v or normal in a lane: that lane returns zero velocity, status invalid_input,
+//    lambda 0; other lanes are unaffected.
+//  - A lane that needs more than max_steps steps, or meets a configuration no candidate
+//    solves (degenerate, nearly parallel planes), returns zero velocity (always feasible)
+//    with converged = false.
+#pragma once
+
+#include <plume/math/vec2.hpp>
+#include <plume/math/vec3.hpp>
+#include <plume/numerics.hpp>
+
+#include <cstddef>
+#include <span>
+#include <type_traits>
+
+PLUME_MASK_CODE_BEGIN
+
+namespace plume {
+
+/// Tolerances of project_velocity and project_velocity_bruteforce.
+template <ScalarReal S>
+struct VelocityProjectionConfig {
+  /// A plane is violated when n . u < -epsilon (velocity units).
+  S epsilon = S(0.005);
+  /// Creases/corners of planes closer to parallel than this (sin^2 of the angle) are unusable.
+  S parallel_epsilon = S(1e-6);
+  /// Iteration cap of the n-step algorithm (planes added).
+  int max_steps = 10;
+
+  /// The defaults for a world whose length unit is `length_unit` (e.g. 100 for centimetres):
+  /// epsilon scales with it, the dimensionless values do not.
+  static constexpr VelocityProjectionConfig scaled(S length_unit) noexcept {
+    VelocityProjectionConfig c;
+    c.epsilon = c.epsilon * length_unit;
+    return c;
+  }
+};
+
+/// Result of project_velocity for one velocity per lane.
+template <class Vec>
+struct VelocityProjection {
+  using T = typename Vec::element_type;
+  Vec velocity;            ///< the projected velocity u
+  T steps;                 ///< planes added (0: v was already allowed); a small whole number
+  mask_t<T> converged;     ///< no plane violated by more than epsilon at the returned u
+  mask_t<T> invalid_input; ///< v or a normal was not finite (velocity is zero)
+};
+
+namespace detail {
+
+template <class Vec>
+using vp_elem = typename Vec::element_type;
+
+/// Sum over all normals of (c - c) for every component: zero iff every value is finite.
+template <class Vec>
+PLUME_INLINE mask_t<vp_elem<Vec>> all_finite(Vec const& v, std::span<Vec const> normals) noexcept {
+  using T = vp_elem<Vec>;
+  auto const fin = [](Vec const& a) {
+    if constexpr (Vec::dim == 3)
+      return ((a.x - a.x) + (a.y - a.y)) + (a.z - a.z);
+    else
+      return (a.x - a.x) + (a.y - a.y);
+  };
+  T acc = fin(v);
+  for (Vec const& n : normals)
+    acc = acc + fin(n);
+  return acc == zero<T>();
+}
+
+/// Index (as T) and value of the smallest n_i . u, first index on ties; NaN never wins.
+template <class Vec>
+struct most_violated {
+  vp_elem<Vec> s;
+  vp_elem<Vec> index;
+  Vec normal;
+};
+template <class Vec>
+PLUME_INLINE most_violated<Vec> find_most_violated(Vec const& u,
+                                                   std::span<Vec const> normals) noexcept {
+  using T = vp_elem<Vec>;
+  most_violated<Vec> best{infinity<T>(), splat<T>(-1), Vec{}};
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    T const s = normals[i].dot(u);
+    auto const better = s < best.s;
+    best.s = plume::select(better, s, best.s);
+    best.index = plume::select(better, splat<T>(static_cast<double>(i)), best.index);
+    best.normal = Vec::select(better, normals[i], best.normal);
+  }
+  return best;
+}
+
+} // namespace detail
+
+// ================================================================================== 3D n-step
+
+/// Projects v onto the cone {u : n_i . u >= 0} with the n-step active-set algorithm (see the
+/// file comment). If lambda_out is not empty it must have normals.size() entries and
+/// receives the multiplier of each plane (0 for inactive planes and invalid lanes).
+template <Real T>
+VelocityProjection<GVec3<T>>
+project_velocity(GVec3<T> const& v, std::type_identity_t<std::span<GVec3<T> const>> normals,
+                 std::type_identity_t<std::span<T>> lambda_out,
+                 VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+  using V = GVec3<T>;
+  using M = mask_t<T>;
+  T const eps = splat<T>(cfg.epsilon);
+  T const neg_eps = -eps;
+  T const par = splat<T>(cfg.parallel_epsilon);
+  T const z = zero<T>();
+  T const none_index = splat<T>(-1);
+
+  M const finite = detail::all_finite(v, normals);
+  // Active set: m planes (0, 1, 2), normals a, b, indices ia, ib and multipliers la, lb.
+  // m = 3 marks the solid wedge (u = 0) with a third index ic.
+  V u = V::select(finite, v, V{});
+  V a{}, b{};
+  T m = z, ia = none_index, ib = none_index, ic = none_index;
+  T la = z, lb = z, lc = z;
+  T steps = z;
+  M running = finite;
+  M converged = z < z; // all false
+  for (int step = 0;; ++step) {
+    auto const worst = detail::find_most_violated<V>(u, normals);
+    M const ok = !(worst.s < neg_eps);
+    converged = converged | (running & ok);
+    running = running & !ok;
+    if (plume::none(running) || step == cfg.max_steps) break;
+
+    V const& c = worst.normal;
+    T const one_plane = splat<T>(1), two_planes = splat<T>(2);
+    M const has_a = m >= one_plane, has_b = m >= two_planes;
+    T const cc = c.dot(c), cv = c.dot(v);
+    T const aa = a.dot(a), av = a.dot(v), ca = c.dot(a);
+    T const bb = b.dot(b), bv = b.dot(v), cb = c.dot(b);
+
+    // Candidate J: the new plane alone.
+    T const lj1 = -cv / cc;
+    V const u1 = v + c * lj1;
+    M const ok1 = (lj1 > z) & (!has_a | !(a.dot(u1) < neg_eps)) & (!has_b | !(b.dot(u1) < neg_eps));
+    T const d1 = (u1 - v).length_squared();
+
+    // Candidate JA: the crease of the new plane and a.
+    V const ea = c.cross(a);
+    T const dea = ea.dot(ea);
+    V const u2 = ea * (v.dot(ea) / dea);
+    T const lj2 = (ca * av - aa * cv) / dea, la2 = (ca * cv - cc * av) / dea;
+    M const ok2 = has_a & (dea > par * (cc * aa)) & (lj2 >= z) & (la2 >= z) &
+                  (!has_b | !(b.dot(u2) < neg_eps));
+    T const d2 = (u2 - v).length_squared();
+
+    // Candidate JB: the crease of the new plane and b.
+    V const eb = c.cross(b);
+    T const deb = eb.dot(eb);
+    V const u3 = eb * (v.dot(eb) / deb);
+    T const lj3 = (cb * bv - bb * cv) / deb, lb3 = (cb * cv - cc * bv) / deb;
+    M const ok3 =
+        has_b & (deb > par * (cc * bb)) & (lj3 >= z) & (lb3 >= z) & !(a.dot(u3) < neg_eps);
+    T const d3 = (u3 - v).length_squared();
+
+    // Candidate JAB: the solid wedge, -v inside the cone spanned by c, a, b: u = 0.
+    V const axb = a.cross(b), bxc = b.cross(c), cxa = c.cross(a);
+    T const det = c.dot(axb);
+    T const lj4 = -v.dot(axb) / det, la4 = -v.dot(bxc) / det, lb4 = -v.dot(cxa) / det;
+    M const ok4 =
+        has_b & (det * det > par * ((cc * aa) * bb)) & (lj4 >= z) & (la4 >= z) & (lb4 >= z);
+    T const d4 = v.length_squared();
+
+    // The valid candidate nearest to v (all valid ones are optimal up to epsilon; the
+    // order J, JA, JB, JAB decides exact ties).
+    T best = plume::select(ok1, d1, infinity<T>());
+    M const take2 = ok2 & (d2 < best);
+    best = plume::select(take2, d2, best);
+    M const take3 = ok3 & (d3 < best);
+    best = plume::select(take3, d3, best);
+    M const take4 = ok4 & (d4 < best);
+    M const found = ok1 | ok2 | ok3 | ok4;
+    M const sel2 = take2 & !take3 & !take4;
+    M const sel3 = take3 & !take4;
+
+    // New state for the running lanes, J's values overridden by the one selected:
+    //   J   {c}        m = 1      JA  {a, c}    m = 2      JB  {c, b}    m = 2
+    //   JAB {c, a, b}  m = 3 (u = 0, finished; multipliers in slots a, b, c)
+    V nu = V::select(found & !take4, u1, V{});
+    V na = c, nb{};
+    T nia = worst.index, nib = none_index, nic = none_index;
+    T nla = lj1, nlb = z, nlc = z;
+    T nm = one_plane;
+    nu = V::select(sel2, u2, nu);
+    na = V::select(sel2, a, na);
+    nb = V::select(sel2, c, nb);
+    nia = plume::select(sel2, ia, nia);
+    nib = plume::select(sel2, worst.index, nib);
+    nla = plume::select(sel2, la2, nla);
+    nlb = plume::select(sel2, lj2, nlb);
+    nm = plume::select(sel2 | sel3, two_planes, nm);
+    nu = V::select(sel3, u3, nu);
+    nb = V::select(sel3, b, nb);
+    nib = plume::select(sel3, ib, nib);
+    nla = plume::select(sel3, lj3, nla);
+    nlb = plume::select(sel3, lb3, nlb);
+    nib = plume::select(take4, ia, nib);
+    nic = plume::select(take4, ib, nic);
+    nla = plume::select(take4, lj4, nla);
+    nlb = plume::select(take4, la4, nlb);
+    nlc = plume::select(take4, lb4, nlc);
+    nm = plume::select(take4, splat<T>(3), nm);
+
+    u = V::select(running, nu, u);
+    a = V::select(running, na, a);
+    b = V::select(running, nb, b);
+    ia = plume::select(running, nia, ia);
+    ib = plume::select(running, nib, ib);
+    ic = plume::select(running, nic, ic);
+    la = plume::select(running, nla, la);
+    lb = plume::select(running, nlb, lb);
+    lc = plume::select(running, nlc, lc);
+    m = plume::select(running, nm, m);
+    steps = plume::select(running, steps + one_plane, steps);
+    // The solid wedge is the exact answer; no valid candidate is a degenerate stop.
+    converged = converged | (running & take4 & found);
+    running = running & found & !take4;
+  }
+  // Lanes still running ran out of steps: fall back to the apex (always allowed).
+  u = V::select(running, V{}, u);
+  if (!lambda_out.empty()) {
+    for (std::size_t i = 0; i < normals.size(); ++i) {
+      T const idx = splat<T>(static_cast<double>(i));
+      T l = plume::select(ia == idx, la, z);
+      l = plume::select(ib == idx, lb, l);
+      l = plume::select(ic == idx, lc, l);
+      lambda_out[i] = plume::select(converged, l, z);
+    }
+  }
+  return {u, steps, converged, !finite};
+}
+
+/// project_velocity without the multipliers.
+template <Real T>
+VelocityProjection<GVec3<T>>
+project_velocity(GVec3<T> const& v, std::type_identity_t<std::span<GVec3<T> const>> normals,
+                 VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+  return plume::project_velocity<T>(v, normals, std::span<T>{}, cfg);
+}
+
+// ================================================================================== 2D n-step
+
+/// 2D form: the active set holds at most one plane; two active planes give u = 0.
+template <Real T>
+VelocityProjection<GVec2<T>>
+project_velocity(GVec2<T> const& v, std::type_identity_t<std::span<GVec2<T> const>> normals,
+                 std::type_identity_t<std::span<T>> lambda_out,
+                 VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+  using V = GVec2<T>;
+  using M = mask_t<T>;
+  T const neg_eps = -splat<T>(cfg.epsilon);
+  T const par = splat<T>(cfg.parallel_epsilon);
+  T const z = zero<T>();
+  T const none_index = splat<T>(-1);
+
+  M const finite = detail::all_finite(v, normals);
+  V u = V::select(finite, v, V{});
+  V a{};
+  T m = z, ia = none_index, ib = none_index, la = z, lb = z, steps = z;
+  M running = finite;
+  M converged = z < z;
+  for (int step = 0;; ++step) {
+    auto const worst = detail::find_most_violated<V>(u, normals);
+    M const ok = !(worst.s < neg_eps);
+    converged = converged | (running & ok);
+    running = running & !ok;
+    if (plume::none(running) || step == cfg.max_steps) break;
+
+    V const& c = worst.normal;
+    T const one_plane = splat<T>(1);
+    M const has_a = m >= one_plane;
+    T const cc = c.dot(c), cv = c.dot(v);
+    // Candidate J: the new plane alone.
+    T const lj1 = -cv / cc;
+    V const u1 = v + c * lj1;
+    M const ok1 = (lj1 > z) & (!has_a | !(a.dot(u1) < neg_eps));
+    T const d1 = (u1 - v).length_squared();
+    // Candidate JA: both planes, u = 0 when -v = lj c + la a with both >= 0.
+    T const det = c.perp_dot(a), aa = a.dot(a);
+    T const lj2 = -v.perp_dot(a) / det, la2 = -c.perp_dot(v) / det;
+    M const ok2 = has_a & (det * det > par * (cc * aa)) & (lj2 >= z) & (la2 >= z);
+    T const d2 = v.length_squared();
+
+    M const take2 = ok2 & (!ok1 | (d2 < d1));
+    M const take1 = ok1 & !take2;
+    M const found = ok1 | ok2;
+
+    // J: {c}, m = 1.  JA: {a, c}, m = 2, u = 0, finished.
+    u = V::select(running, V::select(take1, u1, V{}), u);
+    a = V::select(running & take1, c, a);
+    ib = plume::select(running, plume::select(take2, worst.index, none_index), ib);
+    ia = plume::select(running & take1, worst.index, ia);
+    lb = plume::select(running, plume::select(take2, lj2, z), lb);
+    la = plume::select(running, plume::select(take2, la2, lj1), la);
+    m = plume::select(running, plume::select(take2, splat<T>(2), one_plane), m);
+    steps = plume::select(running, steps + one_plane, steps);
+    converged = converged | (running & take2);
+    running = running & found & !take2;
+  }
+  u = V::select(running, V{}, u);
+  if (!lambda_out.empty()) {
+    for (std::size_t i = 0; i < normals.size(); ++i) {
+      T const idx = splat<T>(static_cast<double>(i));
+      T l = plume::select(ia == idx, la, z);
+      l = plume::select(ib == idx, lb, l);
+      lambda_out[i] = plume::select(converged, l, z);
+    }
+  }
+  return {u, steps, converged, !finite};
+}
+
+/// project_velocity (2D) without the multipliers.
+template <Real T>
+VelocityProjection<GVec2<T>>
+project_velocity(GVec2<T> const& v, std::type_identity_t<std::span<GVec2<T> const>> normals,
+                 VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+  return plume::project_velocity<T>(v, normals, std::span<T>{}, cfg);
+}
+
+// ================================================================================ brute force
+
+namespace detail {
+/// Every n . u >= -epsilon.
+template <class Vec>
+PLUME_INLINE mask_t<vp_elem<Vec>> allowed(Vec const& u, std::span<Vec const> normals,
+                                          vp_elem<Vec> neg_eps) noexcept {
+  using T = vp_elem<Vec>;
+  mask_t<T> ok = !(zero<T>() < zero<T>()); // all true
+  for (Vec const& n : normals)
+    ok = ok & !(n.dot(u) < neg_eps);
+  return ok;
+}
+} // namespace detail
+
+/// The O(k^3) reference (Avian 0.6's first solver): v if no plane is violated by more than
+/// epsilon; else the nearest allowed (within epsilon) of the face projections
+/// v - (n_i . v) n_i / |n_i|^2 of the violated planes and the crease projections
+/// e (v . e) / |e|^2, e = n_i x n_j; else zero. Same conventions as project_velocity; the
+/// result carries no step count (steps = 0) and converged is true for finite lanes.
+template <Real T>
+VelocityProjection<GVec3<T>>
+project_velocity_bruteforce(GVec3<T> const& v,
+                            std::type_identity_t<std::span<GVec3<T> const>> normals,
+                            VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+  using V = GVec3<T>;
+  using M = mask_t<T>;
+  T const neg_eps = -splat<T>(cfg.epsilon);
+  T const par = splat<T>(cfg.parallel_epsilon);
+  M const finite = detail::all_finite(v, normals);
+  M const inside = detail::allowed(v, normals, neg_eps);
+  V best{};
+  T best_d = infinity<T>();
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    V const& n = normals[i];
+    T const nv = n.dot(v);
+    V const p = v - n * (nv / n.dot(n));
+    T const d = (p - v).length_squared();
+    M const take = (nv < neg_eps) & (d < best_d) & detail::allowed(p, normals, neg_eps);
+    best = V::select(take, p, best);
+    best_d = plume::select(take, d, best_d);
+  }
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    for (std::size_t j = i + 1; j < normals.size(); ++j) {
+      V const e = normals[i].cross(normals[j]);
+      T const ee = e.dot(e);
+      M const usable = ee > par * (normals[i].dot(normals[i]) * normals[j].dot(normals[j]));
+      V const p = e * (v.dot(e) / ee);
+      T const d = (p - v).length_squared();
+      M const take = usable & (d < best_d) & detail::allowed(p, normals, neg_eps);
+      best = V::select(take, p, best);
+      best_d = plume::select(take, d, best_d);
+    }
+  }
+  V const u = V::select(finite & inside, v, V::select(finite, best, V{}));
+  return {u, zero<T>(), finite, !finite};
+}
+
+/// 2D brute force: v, else the nearest allowed face projection, else zero.
+template <Real T>
+VelocityProjection<GVec2<T>>
+project_velocity_bruteforce(GVec2<T> const& v,
+                            std::type_identity_t<std::span<GVec2<T> const>> normals,
+                            VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+  using V = GVec2<T>;
+  using M = mask_t<T>;
+  T const neg_eps = -splat<T>(cfg.epsilon);
+  M const finite = detail::all_finite(v, normals);
+  M const inside = detail::allowed(v, normals, neg_eps);
+  V best{};
+  T best_d = infinity<T>();
+  for (std::size_t i = 0; i < normals.size(); ++i) {
+    V const& n = normals[i];
+    T const nv = n.dot(v);
+    V const p = v - n * (nv / n.dot(n));
+    T const d = (p - v).length_squared();
+    M const take = (nv < neg_eps) & (d < best_d) & detail::allowed(p, normals, neg_eps);
+    best = V::select(take, p, best);
+    best_d = plume::select(take, d, best_d);
+  }
+  V const u = V::select(finite & inside, v, V::select(finite, best, V{}));
+  return {u, zero<T>(), finite, !finite};
+}
+
+} // namespace plume
+
+PLUME_MASK_CODE_END
