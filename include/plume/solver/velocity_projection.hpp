@@ -47,6 +47,7 @@
 #include <plume/math/vec3.hpp>
 #include <plume/numerics.hpp>
 
+#include <cassert>
 #include <cstddef>
 #include <span>
 #include <type_traits>
@@ -105,106 +106,131 @@ PLUME_INLINE mask_t<vp_elem<Vec>> all_finite(Vec const& v, std::span<Vec const> 
   return acc == zero<T>();
 }
 
-/// Index (as T) and value of the smallest n_i . u, first index on ties; NaN never wins.
+/// The smallest n_i . u, its normal and (WithIndex) its index as T. NaN never wins. Four
+/// interleaved running minima (planes i = 0, 1, 2, 3 mod 4) shorten the compare-select
+/// dependency chain fourfold; they are merged in a fixed order, so ties go to the plane with
+/// the smallest i mod 4, then the smallest i — the same rule for every lane and width.
 template <class Vec>
 struct most_violated {
   vp_elem<Vec> s;
   vp_elem<Vec> index;
   Vec normal;
 };
-template <class Vec>
+template <bool WithIndex, class Vec>
+PLUME_INLINE void merge_violated(most_violated<Vec>& into,
+                                 most_violated<Vec> const& other) noexcept {
+  auto const better = other.s < into.s;
+  into.s = plume::select(better, other.s, into.s);
+  if constexpr (WithIndex) into.index = plume::select(better, other.index, into.index);
+  into.normal = Vec::select(better, other.normal, into.normal);
+}
+template <bool WithIndex, class Vec>
 PLUME_INLINE most_violated<Vec> find_most_violated(Vec const& u,
                                                    std::span<Vec const> normals) noexcept {
   using T = vp_elem<Vec>;
-  most_violated<Vec> best{infinity<T>(), splat<T>(-1), Vec{}};
-  for (std::size_t i = 0; i < normals.size(); ++i) {
-    T const s = normals[i].dot(u);
-    auto const better = s < best.s;
-    best.s = plume::select(better, s, best.s);
-    best.index = plume::select(better, splat<T>(static_cast<double>(i)), best.index);
-    best.normal = Vec::select(better, normals[i], best.normal);
+  most_violated<Vec> best[4];
+  for (auto& b : best)
+    b = {infinity<T>(), splat<T>(-1), Vec{}};
+  std::size_t const k = normals.size();
+  for (std::size_t i = 0; i < k; i += 4) {
+    for (std::size_t j = 0; j < 4 && i + j < k; ++j) {
+      T const s = normals[i + j].dot(u);
+      merge_violated<WithIndex, Vec>(best[j],
+                                     {s, splat<T>(static_cast<double>(i + j)), normals[i + j]});
+    }
   }
-  return best;
+  merge_violated<WithIndex, Vec>(best[0], best[1]);
+  merge_violated<WithIndex, Vec>(best[2], best[3]);
+  merge_violated<WithIndex, Vec>(best[0], best[2]);
+  return best[0];
+}
+
+/// num / den >= 0 without the division (den != 0): the signs agree or num is zero.
+template <class T>
+PLUME_INLINE mask_t<T> ratio_nonnegative(T num, T den) noexcept {
+  T const z = zero<T>();
+  return ((den > z) & (num >= z)) | ((den < z) & (num <= z));
 }
 
 } // namespace detail
 
 // ================================================================================== 3D n-step
 
-/// Projects v onto the cone {u : n_i . u >= 0} with the n-step active-set algorithm (see the
-/// file comment). If lambda_out is not empty it must have normals.size() entries and
-/// receives the multiplier of each plane (0 for inactive planes and invalid lanes).
-template <Real T>
-VelocityProjection<GVec3<T>>
-project_velocity(GVec3<T> const& v, std::type_identity_t<std::span<GVec3<T> const>> normals,
-                 std::type_identity_t<std::span<T>> lambda_out,
-                 VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+namespace detail {
+
+/// The 3D n-step algorithm. WithLambda adds the bookkeeping of plane indices and multipliers;
+/// the velocity, steps and masks are the same either way (validity is decided from signs, the
+/// multipliers are only divided out for the output).
+template <bool WithLambda, class T>
+VelocityProjection<GVec3<T>> project3(GVec3<T> const& v, std::span<GVec3<T> const> normals,
+                                      std::span<T> lambda_out,
+                                      VelocityProjectionConfig<scalar_t<T>> const& cfg) noexcept {
   using V = GVec3<T>;
   using M = mask_t<T>;
-  T const eps = splat<T>(cfg.epsilon);
-  T const neg_eps = -eps;
+  T const neg_eps = -splat<T>(cfg.epsilon);
   T const par = splat<T>(cfg.parallel_epsilon);
   T const z = zero<T>();
+  T const one_plane = splat<T>(1), two_planes = splat<T>(2);
   T const none_index = splat<T>(-1);
 
   M const finite = detail::all_finite(v, normals);
-  // Active set: m planes (0, 1, 2), normals a, b, indices ia, ib and multipliers la, lb.
-  // m = 3 marks the solid wedge (u = 0) with a third index ic.
+  // Active set: m planes (0, 1, 2) with normals a, b; m = 3 marks the solid wedge (u = 0).
+  // With multipliers: indices ia, ib, ic and multipliers la, lb, lc of the active planes.
   V u = V::select(finite, v, V{});
   V a{}, b{};
-  T m = z, ia = none_index, ib = none_index, ic = none_index;
-  T la = z, lb = z, lc = z;
-  T steps = z;
+  T m = z, steps = z;
+  [[maybe_unused]] T ia = none_index, ib = none_index, ic = none_index, la = z, lb = z, lc = z;
   M running = finite;
   M converged = z < z; // all false
   for (int step = 0;; ++step) {
-    auto const worst = detail::find_most_violated<V>(u, normals);
+    auto const worst = detail::find_most_violated<WithLambda, V>(u, normals);
     M const ok = !(worst.s < neg_eps);
     converged = converged | (running & ok);
     running = running & !ok;
     if (plume::none(running) || step == cfg.max_steps) break;
 
     V const& c = worst.normal;
-    T const one_plane = splat<T>(1), two_planes = splat<T>(2);
+    M const no_a = m < one_plane, no_b = m < two_planes;
     M const has_a = m >= one_plane, has_b = m >= two_planes;
     T const cc = c.dot(c), cv = c.dot(v);
     T const aa = a.dot(a), av = a.dot(v), ca = c.dot(a);
     T const bb = b.dot(b), bv = b.dot(v), cb = c.dot(b);
 
-    // Candidate J: the new plane alone.
-    T const lj1 = -cv / cc;
-    V const u1 = v + c * lj1;
-    M const ok1 = (lj1 > z) & (!has_a | !(a.dot(u1) < neg_eps)) & (!has_b | !(b.dot(u1) < neg_eps));
+    // Candidate J, the new plane alone: multiplier -cv / cc.
+    V const u1 = v + c * (-cv / cc);
+    M const ok1 = (-cv > z) & (no_a | !(a.dot(u1) < neg_eps)) & (no_b | !(b.dot(u1) < neg_eps));
     T const d1 = (u1 - v).length_squared();
 
-    // Candidate JA: the crease of the new plane and a.
+    // Candidate JA, the crease of the new plane and a (Gram determinant dea = |c x a|^2):
+    // multipliers pj2 / dea (new) and pa2 / dea (a).
     V const ea = c.cross(a);
     T const dea = ea.dot(ea);
     V const u2 = ea * (v.dot(ea) / dea);
-    T const lj2 = (ca * av - aa * cv) / dea, la2 = (ca * cv - cc * av) / dea;
-    M const ok2 = has_a & (dea > par * (cc * aa)) & (lj2 >= z) & (la2 >= z) &
-                  (!has_b | !(b.dot(u2) < neg_eps));
+    T const pj2 = ca * av - aa * cv, pa2 = ca * cv - cc * av;
+    M const ok2 =
+        has_a & (dea > par * (cc * aa)) & (pj2 >= z) & (pa2 >= z) & (no_b | !(b.dot(u2) < neg_eps));
     T const d2 = (u2 - v).length_squared();
 
-    // Candidate JB: the crease of the new plane and b.
+    // Candidate JB, the crease of the new plane and b.
     V const eb = c.cross(b);
     T const deb = eb.dot(eb);
     V const u3 = eb * (v.dot(eb) / deb);
-    T const lj3 = (cb * bv - bb * cv) / deb, lb3 = (cb * cv - cc * bv) / deb;
+    T const pj3 = cb * bv - bb * cv, pb3 = cb * cv - cc * bv;
     M const ok3 =
-        has_b & (deb > par * (cc * bb)) & (lj3 >= z) & (lb3 >= z) & !(a.dot(u3) < neg_eps);
+        has_b & (deb > par * (cc * bb)) & (pj3 >= z) & (pb3 >= z) & !(a.dot(u3) < neg_eps);
     T const d3 = (u3 - v).length_squared();
 
-    // Candidate JAB: the solid wedge, -v inside the cone spanned by c, a, b: u = 0.
-    V const axb = a.cross(b), bxc = b.cross(c), cxa = c.cross(a);
+    // Candidate JAB, the solid wedge: -v = lj c + la a + lb b with all three >= 0 (Cramer:
+    // numerators over det = c . (a x b)); u = 0.
+    V const axb = a.cross(b), bxc = b.cross(c);
     T const det = c.dot(axb);
-    T const lj4 = -v.dot(axb) / det, la4 = -v.dot(bxc) / det, lb4 = -v.dot(cxa) / det;
-    M const ok4 =
-        has_b & (det * det > par * ((cc * aa) * bb)) & (lj4 >= z) & (la4 >= z) & (lb4 >= z);
+    T const pj4 = -v.dot(axb), pa4 = -v.dot(bxc), pb4 = -v.dot(ea);
+    M const ok4 = has_b & (det * det > par * ((cc * aa) * bb)) & ratio_nonnegative(pj4, det) &
+                  ratio_nonnegative(pa4, det) & ratio_nonnegative(pb4, det);
     T const d4 = v.length_squared();
 
-    // The valid candidate nearest to v (all valid ones are optimal up to epsilon; the
-    // order J, JA, JB, JAB decides exact ties).
+    // The valid candidate nearest to v (all valid ones are optimal up to epsilon; the order
+    // J, JA, JB, JAB decides exact ties).
     T best = plume::select(ok1, d1, infinity<T>());
     M const take2 = ok2 & (d2 < best);
     best = plume::select(take2, d2, best);
@@ -215,52 +241,44 @@ project_velocity(GVec3<T> const& v, std::type_identity_t<std::span<GVec3<T> cons
     M const sel2 = take2 & !take3 & !take4;
     M const sel3 = take3 & !take4;
 
-    // New state for the running lanes, J's values overridden by the one selected:
-    //   J   {c}        m = 1      JA  {a, c}    m = 2      JB  {c, b}    m = 2
-    //   JAB {c, a, b}  m = 3 (u = 0, finished; multipliers in slots a, b, c)
+    // New state of the running lanes:
+    //   J {c} m = 1;  JA {a, c} m = 2;  JB {c, b} m = 2;  JAB m = 3 (u = 0, finished);
+    //   none: u = 0, finished, not converged.
     V nu = V::select(found & !take4, u1, V{});
-    V na = c, nb{};
-    T nia = worst.index, nib = none_index, nic = none_index;
-    T nla = lj1, nlb = z, nlc = z;
-    T nm = one_plane;
     nu = V::select(sel2, u2, nu);
-    na = V::select(sel2, a, na);
-    nb = V::select(sel2, c, nb);
-    nia = plume::select(sel2, ia, nia);
-    nib = plume::select(sel2, worst.index, nib);
-    nla = plume::select(sel2, la2, nla);
-    nlb = plume::select(sel2, lj2, nlb);
-    nm = plume::select(sel2 | sel3, two_planes, nm);
     nu = V::select(sel3, u3, nu);
-    nb = V::select(sel3, b, nb);
-    nib = plume::select(sel3, ib, nib);
-    nla = plume::select(sel3, lj3, nla);
-    nlb = plume::select(sel3, lb3, nlb);
-    nib = plume::select(take4, ia, nib);
-    nic = plume::select(take4, ib, nic);
-    nla = plume::select(take4, lj4, nla);
-    nlb = plume::select(take4, la4, nlb);
-    nlc = plume::select(take4, lb4, nlc);
-    nm = plume::select(take4, splat<T>(3), nm);
-
     u = V::select(running, nu, u);
-    a = V::select(running, na, a);
-    b = V::select(running, nb, b);
-    ia = plume::select(running, nia, ia);
-    ib = plume::select(running, nib, ib);
-    ic = plume::select(running, nic, ic);
-    la = plume::select(running, nla, la);
-    lb = plume::select(running, nlb, lb);
-    lc = plume::select(running, nlc, lc);
-    m = plume::select(running, nm, m);
+    a = V::select(running & !sel2, c, a);
+    b = V::select(running, V::select(sel2, c, V::select(sel3, b, V{})), b);
+    T nm = plume::select(sel2 | sel3, two_planes, one_plane);
+    m = plume::select(running, plume::select(take4, splat<T>(3), nm), m);
     steps = plume::select(running, steps + one_plane, steps);
+    if constexpr (WithLambda) {
+      // Slots: J (c); JA (a, c); JB (c, b); JAB (c, a, b).
+      T const j = worst.index;
+      T nia = plume::select(sel2, ia, j);
+      T nib = plume::select(sel2, j, plume::select(sel3, ib, none_index));
+      T nla = plume::select(sel2, pa2 / dea, plume::select(sel3, pj3 / deb, -cv / cc));
+      T nlb = plume::select(sel2, pj2 / dea, plume::select(sel3, pb3 / deb, z));
+      nib = plume::select(take4, ia, nib);
+      T const nic = plume::select(take4, ib, none_index);
+      nla = plume::select(take4, pj4 / det, nla);
+      nlb = plume::select(take4, pa4 / det, nlb);
+      T const nlc = plume::select(take4, pb4 / det, z);
+      ia = plume::select(running, nia, ia);
+      ib = plume::select(running, nib, ib);
+      ic = plume::select(running, nic, ic);
+      la = plume::select(running, nla, la);
+      lb = plume::select(running, nlb, lb);
+      lc = plume::select(running, nlc, lc);
+    }
     // The solid wedge is the exact answer; no valid candidate is a degenerate stop.
-    converged = converged | (running & take4 & found);
+    converged = converged | (running & take4);
     running = running & found & !take4;
   }
   // Lanes still running ran out of steps: fall back to the apex (always allowed).
   u = V::select(running, V{}, u);
-  if (!lambda_out.empty()) {
+  if constexpr (WithLambda) {
     for (std::size_t i = 0; i < normals.size(); ++i) {
       T const idx = splat<T>(static_cast<double>(i));
       T l = plume::select(ia == idx, la, z);
@@ -272,75 +290,94 @@ project_velocity(GVec3<T> const& v, std::type_identity_t<std::span<GVec3<T> cons
   return {u, steps, converged, !finite};
 }
 
+} // namespace detail
+
+/// Projects v onto the cone {u : n_i . u >= 0} with the n-step active-set algorithm (see the
+/// file comment). lambda_out must have normals.size() entries and receives the multiplier of
+/// each plane (0 for inactive planes, invalid and unconverged lanes).
+template <Real T>
+VelocityProjection<GVec3<T>>
+project_velocity(GVec3<T> const& v, std::type_identity_t<std::span<GVec3<T> const>> normals,
+                 std::type_identity_t<std::span<T>> lambda_out,
+                 VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+  assert(lambda_out.size() >= normals.size());
+  return detail::project3<true, T>(v, normals, lambda_out, cfg);
+}
+
 /// project_velocity without the multipliers.
 template <Real T>
 VelocityProjection<GVec3<T>>
 project_velocity(GVec3<T> const& v, std::type_identity_t<std::span<GVec3<T> const>> normals,
                  VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
-  return plume::project_velocity<T>(v, normals, std::span<T>{}, cfg);
+  return detail::project3<false, T>(v, normals, std::span<T>{}, cfg);
 }
 
 // ================================================================================== 2D n-step
 
-/// 2D form: the active set holds at most one plane; two active planes give u = 0.
-template <Real T>
-VelocityProjection<GVec2<T>>
-project_velocity(GVec2<T> const& v, std::type_identity_t<std::span<GVec2<T> const>> normals,
-                 std::type_identity_t<std::span<T>> lambda_out,
-                 VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+namespace detail {
+
+/// The 2D n-step algorithm: the active set holds at most one plane; two active planes give
+/// u = 0 (the 2D solid wedge).
+template <bool WithLambda, class T>
+VelocityProjection<GVec2<T>> project2(GVec2<T> const& v, std::span<GVec2<T> const> normals,
+                                      std::span<T> lambda_out,
+                                      VelocityProjectionConfig<scalar_t<T>> const& cfg) noexcept {
   using V = GVec2<T>;
   using M = mask_t<T>;
   T const neg_eps = -splat<T>(cfg.epsilon);
   T const par = splat<T>(cfg.parallel_epsilon);
   T const z = zero<T>();
+  T const one_plane = splat<T>(1);
   T const none_index = splat<T>(-1);
 
   M const finite = detail::all_finite(v, normals);
   V u = V::select(finite, v, V{});
   V a{};
-  T m = z, ia = none_index, ib = none_index, la = z, lb = z, steps = z;
+  T m = z, steps = z;
+  [[maybe_unused]] T ia = none_index, ib = none_index, la = z, lb = z;
   M running = finite;
   M converged = z < z;
   for (int step = 0;; ++step) {
-    auto const worst = detail::find_most_violated<V>(u, normals);
+    auto const worst = detail::find_most_violated<WithLambda, V>(u, normals);
     M const ok = !(worst.s < neg_eps);
     converged = converged | (running & ok);
     running = running & !ok;
     if (plume::none(running) || step == cfg.max_steps) break;
 
     V const& c = worst.normal;
-    T const one_plane = splat<T>(1);
-    M const has_a = m >= one_plane;
+    M const no_a = m < one_plane, has_a = m >= one_plane;
     T const cc = c.dot(c), cv = c.dot(v);
-    // Candidate J: the new plane alone.
-    T const lj1 = -cv / cc;
-    V const u1 = v + c * lj1;
-    M const ok1 = (lj1 > z) & (!has_a | !(a.dot(u1) < neg_eps));
+    // Candidate J, the new plane alone: multiplier -cv / cc.
+    V const u1 = v + c * (-cv / cc);
+    M const ok1 = (-cv > z) & (no_a | !(a.dot(u1) < neg_eps));
     T const d1 = (u1 - v).length_squared();
-    // Candidate JA: both planes, u = 0 when -v = lj c + la a with both >= 0.
+    // Candidate JA, both planes: u = 0 when -v = lj c + la a with both >= 0 (Cramer).
     T const det = c.perp_dot(a), aa = a.dot(a);
-    T const lj2 = -v.perp_dot(a) / det, la2 = -c.perp_dot(v) / det;
-    M const ok2 = has_a & (det * det > par * (cc * aa)) & (lj2 >= z) & (la2 >= z);
+    T const pj2 = -v.perp_dot(a), pa2 = -c.perp_dot(v);
+    M const ok2 = has_a & (det * det > par * (cc * aa)) & ratio_nonnegative(pj2, det) &
+                  ratio_nonnegative(pa2, det);
     T const d2 = v.length_squared();
 
     M const take2 = ok2 & (!ok1 | (d2 < d1));
     M const take1 = ok1 & !take2;
     M const found = ok1 | ok2;
 
-    // J: {c}, m = 1.  JA: {a, c}, m = 2, u = 0, finished.
+    // J: {c}, m = 1.  JA: {a, c}, m = 2, u = 0, finished.  None: u = 0, not converged.
     u = V::select(running, V::select(take1, u1, V{}), u);
     a = V::select(running & take1, c, a);
-    ib = plume::select(running, plume::select(take2, worst.index, none_index), ib);
-    ia = plume::select(running & take1, worst.index, ia);
-    lb = plume::select(running, plume::select(take2, lj2, z), lb);
-    la = plume::select(running, plume::select(take2, la2, lj1), la);
     m = plume::select(running, plume::select(take2, splat<T>(2), one_plane), m);
     steps = plume::select(running, steps + one_plane, steps);
+    if constexpr (WithLambda) {
+      ib = plume::select(running, plume::select(take2, worst.index, none_index), ib);
+      ia = plume::select(running & take1, worst.index, ia);
+      lb = plume::select(running, plume::select(take2, pj2 / det, z), lb);
+      la = plume::select(running, plume::select(take2, pa2 / det, -cv / cc), la);
+    }
     converged = converged | (running & take2);
     running = running & found & !take2;
   }
   u = V::select(running, V{}, u);
-  if (!lambda_out.empty()) {
+  if constexpr (WithLambda) {
     for (std::size_t i = 0; i < normals.size(); ++i) {
       T const idx = splat<T>(static_cast<double>(i));
       T l = plume::select(ia == idx, la, z);
@@ -351,12 +388,24 @@ project_velocity(GVec2<T> const& v, std::type_identity_t<std::span<GVec2<T> cons
   return {u, steps, converged, !finite};
 }
 
+} // namespace detail
+
+/// 2D form of project_velocity with multipliers (lambda_out: normals.size() entries).
+template <Real T>
+VelocityProjection<GVec2<T>>
+project_velocity(GVec2<T> const& v, std::type_identity_t<std::span<GVec2<T> const>> normals,
+                 std::type_identity_t<std::span<T>> lambda_out,
+                 VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+  assert(lambda_out.size() >= normals.size());
+  return detail::project2<true, T>(v, normals, lambda_out, cfg);
+}
+
 /// project_velocity (2D) without the multipliers.
 template <Real T>
 VelocityProjection<GVec2<T>>
 project_velocity(GVec2<T> const& v, std::type_identity_t<std::span<GVec2<T> const>> normals,
                  VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
-  return plume::project_velocity<T>(v, normals, std::span<T>{}, cfg);
+  return detail::project2<false, T>(v, normals, std::span<T>{}, cfg);
 }
 
 // ================================================================================ brute force
