@@ -10,6 +10,9 @@
 // holds the expected lines. After an intended change of results, regenerate it with
 // `plume_golden > tests/determinism/golden.txt` and say why in the commit.
 #include <plume/numerics.hpp>
+#include <plume/solver.hpp>
+
+#include <cmath>
 
 #include <bit>
 #include <cinttypes>
@@ -136,6 +139,81 @@ std::uint64_t numerics_battery() {
   return h.h;
 }
 
+/// Velocity projection (3D with multipliers, 2D), brute force and depenetration on 256 fixed
+/// problems with 0..15 planes each (lanes of a wide group have different counts).
+template <class T>
+std::uint64_t solver_battery() {
+  using S = scalar_t<T>;
+  constexpr std::size_t L = lanes_v<T>, P = 256, K = 15;
+  fnv h;
+  auto const r = inputs<double>(1); // 4096 + values; the first few hundred are ordinary
+  std::size_t at = 0;
+  auto next = [&] {
+    double x;
+    do
+      x = r[at++ % 4000];
+    while (!(std::abs(x) <= 1));
+    return x;
+  };
+  auto unit3 = [&] {
+    double x, y, z, n;
+    do {
+      x = next(), y = next(), z = next();
+      n = std::sqrt(x * x + y * y + z * z);
+    } while (n < 0.1 || n > 1);
+    return GVec3<S>{S(x / n), S(y / n), S(z / n)};
+  };
+  std::vector<GVec3<S>> v(P), n(P * K);
+  std::vector<S> depth(P * K);
+  std::vector<std::size_t> count(P);
+  for (std::size_t p = 0; p < P; ++p) {
+    GVec3<S> const dir = unit3(); // two statements: operand order is unspecified
+    v[p] = dir * S(1 + 4 * std::abs(next()));
+    count[p] = p % (K + 1);
+    for (std::size_t i = 0; i < count[p]; ++i) {
+      n[p * K + i] = unit3();
+      depth[p * K + i] = S(0.3 * next());
+    }
+  }
+  for (std::size_t g = 0; g < P; g += L) {
+    GVec3<T> wv;
+    std::vector<GVec3<T>> wn(K);
+    std::vector<GVec2<T>> wn2(K);
+    std::vector<Penetration<GVec3<T>>> pen(K);
+    for (std::size_t l = 0; l < L; ++l) {
+      wv = with_lane(wv, l, v[g + l]);
+      for (std::size_t i = 0; i < K; ++i) {
+        GVec3<S> const ni = n[(g + l) * K + i]; // zero beyond the problem's count
+        wn[i] = with_lane(wn[i], l, ni);
+        wn2[i] = with_lane(wn2[i], l, GVec2<S>{ni.x, ni.y});
+        pen[i].normal = wn[i];
+        pen[i].depth = with_lane(pen[i].depth, l, depth[(g + l) * K + i]);
+      }
+    }
+    std::vector<T> lambda(K);
+    auto const r3 = project_velocity<T>(wv, wn, lambda);
+    auto const bf = project_velocity_bruteforce<T>(wv, wn);
+    auto const r2 = project_velocity<T>(GVec2<T>{wv.x, wv.y}, wn2);
+    auto const dp = depenetrate(pen);
+    // Problem by problem, so that every width hashes in the same order.
+    for (std::size_t l = 0; l < L; ++l) {
+      auto add3 = [&](GVec3<T> const& a) {
+        auto const x = lane(a, l);
+        h.add(x.x), h.add(x.y), h.add(x.z);
+      };
+      add3(r3.velocity);
+      h.add(lane(r3.steps, l));
+      for (auto const& x : lambda)
+        h.add(lane(x, l));
+      add3(bf.velocity);
+      h.add(lane(r2.velocity.x, l)), h.add(lane(r2.velocity.y, l));
+      add3(dp.correction);
+      h.add(lane(dp.passes, l));
+    }
+  }
+  return h.h;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -172,6 +250,28 @@ int main(int argc, char** argv) {
 #endif
 #if PLUME_HAS_AVX512
         numerics_battery<f64x8>(),
+#endif
+  });
+  record("solver_f32", solver_battery<float>(), {
+#if PLUME_HAS_BATCHES
+    solver_battery<f32x4>(),
+#endif
+#if PLUME_HAS_AVX2
+        solver_battery<f32x8>(),
+#endif
+#if PLUME_HAS_AVX512
+        solver_battery<f32x16>(),
+#endif
+  });
+  record("solver_f64", solver_battery<double>(), {
+#if PLUME_HAS_BATCHES
+    solver_battery<f64x2>(),
+#endif
+#if PLUME_HAS_AVX2
+        solver_battery<f64x4>(),
+#endif
+#if PLUME_HAS_AVX512
+        solver_battery<f64x8>(),
 #endif
   });
   if (argc == 3 && !std::strcmp(argv[1], "--check")) {

@@ -358,7 +358,8 @@ VelocityProjection<GVec2<T>> project2(GVec2<T> const& v, std::span<GVec2<T> cons
                   ratio_nonnegative(pa2, det);
     T const d2 = v.length_squared();
 
-    M const take2 = ok2 & (!ok1 | (d2 < d1));
+    M const no1 = !ok1;
+    M const take2 = ok2 & (no1 | (d2 < d1));
     M const take1 = ok1 & !take2;
     M const found = ok1 | ok2;
 
