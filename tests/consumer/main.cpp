@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <vector>
 
 template <plume::Real T>
 T bounce_height(T x, T height) {
@@ -31,5 +32,22 @@ int main() {
   bool const geometry_ok = plume::lane(ok, 0) && std::abs(first.length() - 1.0f) < 1e-6f &&
                            std::abs(lane(unit, 0).y) < 1e-6f;
   std::printf("consumer: first turned direction (%g, %g, %g)\n", first.x, first.y, first.z);
-  return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok) ? 0 : 1;
+  // The README's solver example.
+  Vec3 const floor_normal{0, 0, 1}, wall_normal{-1, 0, 0};
+  Vec3 const velocity{1, 2, -1};
+  PlaneSet3<float> planes(velocity);
+  planes.add(floor_normal);
+  planes.add(wall_normal);
+  auto slide = project_velocity(velocity, planes.normals());
+  Vec3xN const crowd(velocity);
+  std::vector<Vec3xN> const lane_planes = {Vec3xN(floor_normal), Vec3xN(wall_normal)};
+  auto slides = project_velocity(crowd, lane_planes);
+  Penetration<Vec3> const hits[] = {{floor_normal, 0.02f}, {wall_normal, 0.01f}};
+  Vec3 const fix = depenetrate(hits).correction;
+  bool const solver_ok = slide.converged && slide.velocity.x == 0 && slide.velocity.y == 2 &&
+                         slide.velocity.z == 0 && lane(slides.velocity, 0).y == 2 &&
+                         fix.x == -0.01f && fix.y == 0 && fix.z == 0.02f;
+  std::printf("consumer: slide (%g, %g, %g), fix (%g, %g, %g)\n", slide.velocity.x,
+              slide.velocity.y, slide.velocity.z, fix.x, fix.y, fix.z);
+  return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok && solver_ok) ? 0 : 1;
 }
