@@ -409,6 +409,8 @@ wide_case<T> make_wide_case(rng& r, std::size_t max_k) {
     for (std::size_t i = 0; i < k; ++i) {
       DVec3 n = kind == 0 ? avian[i % avian.size()] : r.unit3<double>();
       if (kind == 2 && i % 4 == 3) n = -to<double>(per_lane[l].back()); // opposite plane
+      if (kind == 1 && i % 5 == 4)          // an exact duplicate three slots back: ties across the
+        n = to<double>(per_lane[l][i - 3]); // wide search's interleaved minima
       per_lane[l].push_back(to<S>(n));
     }
     v = with_lane(v, l, to<S>(r.unit3<double>() * r.uniform(0.001, 20)));

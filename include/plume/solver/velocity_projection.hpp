@@ -106,43 +106,59 @@ PLUME_INLINE mask_t<vp_elem<Vec>> all_finite(Vec const& v, std::span<Vec const> 
   return acc == zero<T>();
 }
 
-/// The smallest n_i . u, its normal and (WithIndex) its index as T. NaN never wins. Four
-/// interleaved running minima (planes i = 0, 1, 2, 3 mod 4) shorten the compare-select
-/// dependency chain fourfold; they are merged in a fixed order, so ties go to the plane with
-/// the smallest i mod 4, then the smallest i — the same rule for every lane and width.
+/// The smallest n_i . u, its normal and (WithIndex) its index as T: the first index that
+/// attains the minimum; NaN never wins; no plane gives {+inf, -1, zero}.
+///  - Wide: four interleaved running minima (planes i = 0, 1, 2, 3 mod 4) cut the
+///    compare-select dependency chain fourfold; merging them compares indices on ties.
+///  - Scalar: one branch-free pass for the minimum (minss), then the first plane that attains
+///    it (one unpredictable branch instead of one per new minimum). The same rule, so the same
+///    plane, as the wide form.
 template <class Vec>
 struct most_violated {
   vp_elem<Vec> s;
   vp_elem<Vec> index;
   Vec normal;
 };
-template <bool WithIndex, class Vec>
+template <class Vec>
 PLUME_INLINE void merge_violated(most_violated<Vec>& into,
                                  most_violated<Vec> const& other) noexcept {
-  auto const better = other.s < into.s;
+  auto const better = (other.s < into.s) | ((other.s == into.s) & (other.index < into.index));
   into.s = plume::select(better, other.s, into.s);
-  if constexpr (WithIndex) into.index = plume::select(better, other.index, into.index);
+  into.index = plume::select(better, other.index, into.index);
   into.normal = Vec::select(better, other.normal, into.normal);
 }
 template <bool WithIndex, class Vec>
 PLUME_INLINE most_violated<Vec> find_most_violated(Vec const& u,
                                                    std::span<Vec const> normals) noexcept {
   using T = vp_elem<Vec>;
-  most_violated<Vec> best[4];
-  for (auto& b : best)
-    b = {infinity<T>(), splat<T>(-1), Vec{}};
   std::size_t const k = normals.size();
-  for (std::size_t i = 0; i < k; i += 4) {
-    for (std::size_t j = 0; j < 4 && i + j < k; ++j) {
-      T const s = normals[i + j].dot(u);
-      merge_violated<WithIndex, Vec>(best[j],
-                                     {s, splat<T>(static_cast<double>(i + j)), normals[i + j]});
+  if constexpr (!is_batch_v<T>) {
+    T m = infinity<T>();
+    for (std::size_t i = 0; i < k; ++i) {
+      T const s = normals[i].dot(u);
+      m = s < m ? s : m;
     }
+    for (std::size_t i = 0; i < k; ++i)
+      if (normals[i].dot(u) == m) return {m, static_cast<T>(i), normals[i]};
+    return {m, T(-1), Vec{}};
+  } else {
+    most_violated<Vec> best[4];
+    for (auto& b : best)
+      b = {infinity<T>(), splat<T>(-1), Vec{}};
+    for (std::size_t i = 0; i < k; i += 4) {
+      for (std::size_t j = 0; j < 4 && i + j < k; ++j) {
+        T const s = normals[i + j].dot(u);
+        auto const better = s < best[j].s;
+        best[j].s = plume::select(better, s, best[j].s);
+        best[j].index = plume::select(better, splat<T>(static_cast<double>(i + j)), best[j].index);
+        best[j].normal = Vec::select(better, normals[i + j], best[j].normal);
+      }
+    }
+    merge_violated(best[0], best[1]);
+    merge_violated(best[2], best[3]);
+    merge_violated(best[0], best[2]);
+    return best[0];
   }
-  merge_violated<WithIndex, Vec>(best[0], best[1]);
-  merge_violated<WithIndex, Vec>(best[2], best[3]);
-  merge_violated<WithIndex, Vec>(best[0], best[2]);
-  return best[0];
 }
 
 /// num / den >= 0 without the division (den != 0): the signs agree or num is zero.
@@ -193,40 +209,56 @@ VelocityProjection<GVec3<T>> project3(GVec3<T> const& v, std::span<GVec3<T> cons
     M const no_a = m < one_plane, no_b = m < two_planes;
     M const has_a = m >= one_plane, has_b = m >= two_planes;
     T const cc = c.dot(c), cv = c.dot(v);
-    T const aa = a.dot(a), av = a.dot(v), ca = c.dot(a);
-    T const bb = b.dot(b), bv = b.dot(v), cb = c.dot(b);
+    T const av = a.dot(v), ca = c.dot(a), bv = b.dot(v), cb = c.dot(b);
+    // Candidate J, the new plane alone: multiplier l1 = -cv / cc. Its tests use
+    // a . u1 = a . v + l1 (c . a) (and the same for b), |u1 - v|^2 = l1^2 (c . c): the same
+    // values as from u1, with a shorter dependency chain.
+    T const l1 = -cv / cc;
+    V const u1 = v + c * l1;
+    M const ok1 =
+        (-cv > z) & (no_a | !(av + l1 * ca < neg_eps)) & (no_b | !(bv + l1 * cb < neg_eps));
+    T const d1 = (l1 * l1) * cc;
 
-    // Candidate J, the new plane alone: multiplier -cv / cc.
-    V const u1 = v + c * (-cv / cc);
-    M const ok1 = (-cv > z) & (no_a | !(a.dot(u1) < neg_eps)) & (no_b | !(b.dot(u1) < neg_eps));
-    T const d1 = (u1 - v).length_squared();
+    // The other candidates need one or two active planes. No lane has them in the first step,
+    // none has two in the second: skip what no running lane can take (the skipped
+    // candidates are invalid in every lane, so every result is the same either way).
+    M ok2 = z < z, ok3 = z < z, ok4 = z < z;
+    V u2{}, u3{}, ea{};
+    T d2 = z, d3 = z, aa = z;
+    [[maybe_unused]] T dea = one_plane, pj2 = z, pa2 = z, deb = one_plane, pj3 = z, pb3 = z;
+    [[maybe_unused]] T det = one_plane, pj4 = z, pa4 = z, pb4 = z;
+    if (plume::any(running & has_a)) {
+      // Candidate JA, the crease of the new plane and a (Gram determinant dea = |c x a|^2):
+      // multipliers pj2 / dea (new) and pa2 / dea (a).
+      aa = a.dot(a);
+      ea = c.cross(a);
+      dea = ea.dot(ea);
+      T const s2 = v.dot(ea) / dea;
+      u2 = ea * s2;
+      pj2 = ca * av - aa * cv, pa2 = ca * cv - cc * av;
+      ok2 = has_a & (dea > par * (cc * aa)) & (pj2 >= z) & (pa2 >= z) &
+            (no_b | !(s2 * b.dot(ea) < neg_eps));
+      d2 = (u2 - v).length_squared();
+    }
+    if (plume::any(running & has_b)) { // implies the block above ran
+      // Candidate JB, the crease of the new plane and b.
+      T const bb = b.dot(b);
+      V const eb = c.cross(b);
+      deb = eb.dot(eb);
+      T const s3 = v.dot(eb) / deb;
+      u3 = eb * s3;
+      pj3 = cb * bv - bb * cv, pb3 = cb * cv - cc * bv;
+      ok3 = has_b & (deb > par * (cc * bb)) & (pj3 >= z) & (pb3 >= z) & !(s3 * a.dot(eb) < neg_eps);
+      d3 = (u3 - v).length_squared();
 
-    // Candidate JA, the crease of the new plane and a (Gram determinant dea = |c x a|^2):
-    // multipliers pj2 / dea (new) and pa2 / dea (a).
-    V const ea = c.cross(a);
-    T const dea = ea.dot(ea);
-    V const u2 = ea * (v.dot(ea) / dea);
-    T const pj2 = ca * av - aa * cv, pa2 = ca * cv - cc * av;
-    M const ok2 =
-        has_a & (dea > par * (cc * aa)) & (pj2 >= z) & (pa2 >= z) & (no_b | !(b.dot(u2) < neg_eps));
-    T const d2 = (u2 - v).length_squared();
-
-    // Candidate JB, the crease of the new plane and b.
-    V const eb = c.cross(b);
-    T const deb = eb.dot(eb);
-    V const u3 = eb * (v.dot(eb) / deb);
-    T const pj3 = cb * bv - bb * cv, pb3 = cb * cv - cc * bv;
-    M const ok3 =
-        has_b & (deb > par * (cc * bb)) & (pj3 >= z) & (pb3 >= z) & !(a.dot(u3) < neg_eps);
-    T const d3 = (u3 - v).length_squared();
-
-    // Candidate JAB, the solid wedge: -v = lj c + la a + lb b with all three >= 0 (Cramer:
-    // numerators over det = c . (a x b)); u = 0.
-    V const axb = a.cross(b), bxc = b.cross(c);
-    T const det = c.dot(axb);
-    T const pj4 = -v.dot(axb), pa4 = -v.dot(bxc), pb4 = -v.dot(ea);
-    M const ok4 = has_b & (det * det > par * ((cc * aa) * bb)) & ratio_nonnegative(pj4, det) &
-                  ratio_nonnegative(pa4, det) & ratio_nonnegative(pb4, det);
+      // Candidate JAB, the solid wedge: -v = lj c + la a + lb b with all three >= 0
+      // (Cramer: numerators over det = c . (a x b)); u = 0.
+      V const axb = a.cross(b), bxc = b.cross(c);
+      det = c.dot(axb);
+      pj4 = -v.dot(axb), pa4 = -v.dot(bxc), pb4 = -v.dot(ea);
+      ok4 = has_b & (det * det > par * ((cc * aa) * bb)) & ratio_nonnegative(pj4, det) &
+            ratio_nonnegative(pa4, det) & ratio_nonnegative(pb4, det);
+    }
     T const d4 = v.length_squared();
 
     // The valid candidate nearest to v (all valid ones are optimal up to epsilon; the order
@@ -352,10 +384,16 @@ VelocityProjection<GVec2<T>> project2(GVec2<T> const& v, std::span<GVec2<T> cons
     M const ok1 = (-cv > z) & (no_a | !(a.dot(u1) < neg_eps));
     T const d1 = (u1 - v).length_squared();
     // Candidate JA, both planes: u = 0 when -v = lj c + la a with both >= 0 (Cramer).
-    T const det = c.perp_dot(a), aa = a.dot(a);
-    T const pj2 = -v.perp_dot(a), pa2 = -c.perp_dot(v);
-    M const ok2 = has_a & (det * det > par * (cc * aa)) & ratio_nonnegative(pj2, det) &
-                  ratio_nonnegative(pa2, det);
+    // Skipped when no running lane has a plane yet (it would be invalid in every lane).
+    M ok2 = z < z;
+    [[maybe_unused]] T det = one_plane, pj2 = z, pa2 = z;
+    if (plume::any(running & has_a)) {
+      T const aa = a.dot(a);
+      det = c.perp_dot(a);
+      pj2 = -v.perp_dot(a), pa2 = -c.perp_dot(v);
+      ok2 = has_a & (det * det > par * (cc * aa)) & ratio_nonnegative(pj2, det) &
+            ratio_nonnegative(pa2, det);
+    }
     T const d2 = v.length_squared();
 
     M const no1 = !ok1;
