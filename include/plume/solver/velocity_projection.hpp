@@ -16,22 +16,25 @@
 // known; add the most violated plane; replace the active set by the subset of
 // {active, new} (the new plane always kept) that satisfies the optimality conditions on
 // those planes — the apex, a ray (face), a wedge (crease) or the solid wedge (u = 0) — and
-// repeat until no plane is violated by more than cfg.epsilon. Each step is O(k); in practice
-// at most 4 steps. Unlike Avian's version, every step tests the Lagrange multipliers of each
+// repeat until no plane is violated by more than cfg.epsilon. Each step is O(k); the most
+// violated plane is the one with the smallest n . u, the first in the span on ties. Steps
+// seen: at most 4 on the notes' 17-normal test, at most 5 on random contact sets of up to 32
+// planes (bench/solver). Unlike Avian's version, every step tests the Lagrange multipliers of each
 // candidate subset, so a plane that stops helping is dropped and the answer is the exact
 // projection (up to epsilon) whatever the order in which planes become active.
 //
 // Wide use: lane l projects lane l of v against lane l of every normal. Different lanes may
 // have different plane counts: pad with zero normals (a zero normal is never violated and
 // never changes a result). Every lane runs until all have finished; finished lanes are
-// frozen by masks, and lane l equals, bit for bit, the scalar call on lane l's inputs.
+// frozen by masks, and lane l equals, bit for bit, the scalar call on lane l's inputs. A
+// wide call costs as many steps as its slowest lane.
 //
 // Conventions and bad input:
 //  - Normals should be unit length (PlaneSet3/PlaneSet2 build such sets). A nonzero normal
 //    of any length still acts as the plane it defines (the formulas use n . n); only the
 //    violation tolerance scales with |n|. Zero normals are ignored.
 //  - epsilon (velocity units, default 0.005 x length unit / s): a plane counts as violated
-//    when n . u < -epsilon. A v with |v| < epsilon therefore comes back unchanged.
+//    when n . u < -epsilon. With unit normals, a v with |v| < epsilon comes back unchanged.
 //  - parallel_epsilon (dimensionless): two planes whose |n_i x n_j|^2 is at most
 //    parallel_epsilon |n_i|^2 |n_j|^2 have no usable crease; three planes whose triple
 //    product squared is at most parallel_epsilon |n_i|^2 |n_j|^2 |n_k|^2 no usable corner.
@@ -158,6 +161,20 @@ PLUME_INLINE most_violated<Vec> find_most_violated(Vec const& u,
     merge_violated(best[2], best[3]);
     merge_violated(best[0], best[2]);
     return best[0];
+  }
+}
+
+/// lambda_out[i] = the multiplier of the active slot holding plane i (index as T), or 0; 0
+/// for lanes that did not converge.
+template <class T, std::size_t N>
+PLUME_INLINE void scatter_multipliers(std::span<T> lambda_out, std::size_t k, mask_t<T> converged,
+                                      T const (&index)[N], T const (&value)[N]) noexcept {
+  for (std::size_t i = 0; i < k; ++i) {
+    T const idx = splat<T>(static_cast<double>(i));
+    T l = zero<T>();
+    for (std::size_t j = 0; j < N; ++j)
+      l = plume::select(index[j] == idx, value[j], l);
+    lambda_out[i] = plume::select(converged, l, zero<T>());
   }
 }
 
@@ -310,15 +327,8 @@ VelocityProjection<GVec3<T>> project3(GVec3<T> const& v, std::span<GVec3<T> cons
   }
   // Lanes still running ran out of steps: fall back to the apex (always allowed).
   u = V::select(running, V{}, u);
-  if constexpr (WithLambda) {
-    for (std::size_t i = 0; i < normals.size(); ++i) {
-      T const idx = splat<T>(static_cast<double>(i));
-      T l = plume::select(ia == idx, la, z);
-      l = plume::select(ib == idx, lb, l);
-      l = plume::select(ic == idx, lc, l);
-      lambda_out[i] = plume::select(converged, l, z);
-    }
-  }
+  if constexpr (WithLambda)
+    scatter_multipliers<T, 3>(lambda_out, normals.size(), converged, {ia, ib, ic}, {la, lb, lc});
   return {u, steps, converged, !finite};
 }
 
@@ -416,14 +426,8 @@ VelocityProjection<GVec2<T>> project2(GVec2<T> const& v, std::span<GVec2<T> cons
     running = running & found & !take2;
   }
   u = V::select(running, V{}, u);
-  if constexpr (WithLambda) {
-    for (std::size_t i = 0; i < normals.size(); ++i) {
-      T const idx = splat<T>(static_cast<double>(i));
-      T l = plume::select(ia == idx, la, z);
-      l = plume::select(ib == idx, lb, l);
-      lambda_out[i] = plume::select(converged, l, z);
-    }
-  }
+  if constexpr (WithLambda)
+    scatter_multipliers<T, 2>(lambda_out, normals.size(), converged, {ia, ib}, {la, lb});
   return {u, steps, converged, !finite};
 }
 
@@ -460,6 +464,22 @@ PLUME_INLINE mask_t<vp_elem<Vec>> allowed(Vec const& u, std::span<Vec const> nor
     ok = ok & !(n.dot(u) < neg_eps);
   return ok;
 }
+
+/// The face candidates of the brute force: for each plane violated by v, v projected onto it,
+/// kept in best when nearer than best_d and allowed by every plane.
+template <class Vec>
+PLUME_INLINE void nearest_allowed_face(Vec const& v, std::span<Vec const> normals,
+                                       vp_elem<Vec> neg_eps, Vec& best,
+                                       vp_elem<Vec>& best_d) noexcept {
+  for (Vec const& n : normals) {
+    auto const nv = n.dot(v);
+    Vec const p = v - n * (nv / n.dot(n));
+    auto const d = (p - v).length_squared();
+    auto const take = (nv < neg_eps) & (d < best_d) & allowed(p, normals, neg_eps);
+    best = Vec::select(take, p, best);
+    best_d = plume::select(take, d, best_d);
+  }
+}
 } // namespace detail
 
 /// The O(k^3) reference (Avian 0.6's first solver): v if no plane is violated by more than
@@ -480,15 +500,7 @@ project_velocity_bruteforce(GVec3<T> const& v,
   M const inside = detail::allowed(v, normals, neg_eps);
   V best{};
   T best_d = infinity<T>();
-  for (std::size_t i = 0; i < normals.size(); ++i) {
-    V const& n = normals[i];
-    T const nv = n.dot(v);
-    V const p = v - n * (nv / n.dot(n));
-    T const d = (p - v).length_squared();
-    M const take = (nv < neg_eps) & (d < best_d) & detail::allowed(p, normals, neg_eps);
-    best = V::select(take, p, best);
-    best_d = plume::select(take, d, best_d);
-  }
+  detail::nearest_allowed_face(v, normals, neg_eps, best, best_d);
   for (std::size_t i = 0; i < normals.size(); ++i) {
     for (std::size_t j = i + 1; j < normals.size(); ++j) {
       V const e = normals[i].cross(normals[j]);
@@ -518,15 +530,7 @@ project_velocity_bruteforce(GVec2<T> const& v,
   M const inside = detail::allowed(v, normals, neg_eps);
   V best{};
   T best_d = infinity<T>();
-  for (std::size_t i = 0; i < normals.size(); ++i) {
-    V const& n = normals[i];
-    T const nv = n.dot(v);
-    V const p = v - n * (nv / n.dot(n));
-    T const d = (p - v).length_squared();
-    M const take = (nv < neg_eps) & (d < best_d) & detail::allowed(p, normals, neg_eps);
-    best = V::select(take, p, best);
-    best_d = plume::select(take, d, best_d);
-  }
+  detail::nearest_allowed_face(v, normals, neg_eps, best, best_d);
   V const u = V::select(finite & inside, v, V::select(finite, best, V{}));
   return {u, zero<T>(), finite, !finite};
 }
