@@ -214,3 +214,24 @@ TEMPLATE_LIST_TEST_CASE("wide plane sets equal scalar ones per lane", "[solver][
   }
 }
 #endif
+
+TEST_CASE("2D plane set and configurations scaled by a length unit", "[solver][planes][2d]") {
+  Vec2 const v{1, -1};
+  PlaneSet2<float> set(v);
+  CHECK(set.add({0, 2}));                             // floor, normalised
+  CHECK(set.add({std::sin(0.05f), std::cos(0.05f)})); // 2.9 degrees: merged
+  CHECK(set.add({-1, 0}));                            // wall
+  REQUIRE(set.count() == 2);
+  CHECK(set.normals()[0].y == 1);
+  auto const r = project_velocity(v, set.normals());
+  CHECK(r.velocity.x == 0);
+  CHECK(r.velocity.y == 0);
+
+  auto const cm = VelocityProjectionConfig<float>::scaled(100);
+  CHECK(cm.epsilon == 0.005f * 100);
+  CHECK(cm.parallel_epsilon == VelocityProjectionConfig<float>{}.parallel_epsilon);
+  // A 0.3 cm/s component into a wall is below the default tolerance in centimetres only.
+  std::vector<Vec3> const wall = {{-1, 0, 0}};
+  CHECK(project_velocity(Vec3{0.3f, 1, 0}, wall, cm).velocity.x == 0.3f);
+  CHECK(project_velocity(Vec3{0.3f, 1, 0}, wall).velocity.x == 0);
+}
