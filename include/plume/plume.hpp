@@ -3,4 +3,5 @@
 
 #include <plume/numerics.hpp>
 #include <plume/math.hpp>
+#include <plume/collision.hpp>
 #include <plume/solver.hpp>

@@ -82,7 +82,7 @@ template <class E, class A>
 PLUME_INLINE xsimd::batch_bool<E, A> select(xsimd::batch_bool<E, A> const& m,
                                             xsimd::batch_bool<E, A> const& a,
                                             xsimd::batch_bool<E, A> const& b) noexcept {
-  return (m & a) | (!m & b);
+  return (m & a) | (b & (!m));
 }
 
 /// The mask m (of any element type of T's lanes and lane width) as a mask of T.

@@ -1,0 +1,316 @@
+// plume/collision/ray_cast.hpp - ray casts against the primitive shapes in closed form,
+// generic over T: with a wide T, lane i casts ray i against shape i (or one ray against
+// many shapes, or many rays against one shape: splat what is shared).
+//
+//   ray_cast(shape, pose, ray, max_toi, solid = true) -> GRayHit<T>
+//   ray_cast_local(shape, ray, max_toi, solid)       the same with the ray in the shape frame
+//   ray_cast(GAabb3<T>, ray, max_toi, solid)         an axis-aligned box in world space
+//
+// Conventions:
+//  - The ray is origin + t dir, t >= 0; dir need not be unit: toi is in units of |dir|.
+//    A hit needs toi <= max_toi (inclusive; max_toi may be +infinity).
+//  - normal: the outward unit normal of the surface at the hit point, in world space.
+//  - Origin inside the (closed) shape: solid casts hit at toi = 0 with a zero normal (there
+//    is no surface there); hollow casts hit where the ray leaves the shape, with the outward
+//    normal there (pointing along the ray).
+//  - Miss: hit false, toi = +infinity, normal zero. A zero direction hits only a solid shape
+//    its origin is inside (toi = 0). A non-finite origin or direction, or a NaN max_toi, is
+//    a miss in that lane only.
+//  - Robust forms (notes/collision.md): the sphere and cylinder discriminants are computed
+//    as a (r^2 - |f - (b/a) d|^2), without the cancellation of b^2 - a c for small or far
+//    shapes, and the roots as c/q and q/a with q = -(b + sign(b) sqrt(disc)); slab tests
+//    treat a zero direction component (+0 or -0) as parallel and decide by whether the origin
+//    lies in the slab, so 0 * inf never makes a NaN.
+//  - A grazing ray that touches the surface in one point hits (tangency counts).
+#pragma once
+
+#include <plume/collision/shapes.hpp>
+#include <plume/math/aabb3.hpp>
+#include <plume/math/iso3.hpp>
+#include <plume/math/vec3.hpp>
+#include <plume/numerics.hpp>
+
+PLUME_MASK_CODE_BEGIN
+
+namespace plume {
+
+/// A ray: origin + t dir for t >= 0.
+template <Real T>
+struct GRay3 {
+  GVec3<T> origin;
+  GVec3<T> dir;
+  GVec3<T> at(T t) const noexcept { return origin + dir * t; }
+};
+
+/// The result of a ray cast, per lane.
+template <Real T>
+struct GRayHit {
+  mask_t<T> hit;
+  T toi;           ///< +infinity where hit is false
+  GVec3<T> normal; ///< outward unit normal at the hit; zero on a miss or a solid inside hit
+};
+
+using Ray3 = GRay3<float>;
+using RayHit = GRayHit<float>;
+
+namespace detail {
+
+/// The interval [tin, tout] of a line inside a convex set, with the normals at both ends.
+template <Real T>
+struct ray_interval {
+  mask_t<T> ok; ///< the line meets the set
+  T tin, tout;
+  GVec3<T> n_in, n_out;
+};
+
+template <Real T>
+PLUME_INLINE T min_of(T a, T b) noexcept {
+  return plume::select(b < a, b, a);
+}
+template <Real T>
+PLUME_INLINE T max_of(T a, T b) noexcept {
+  return plume::select(b > a, b, a);
+}
+
+/// Roots of |f + t d|^2 = r^2 in the robust form; the 2D form (xz) when Flat.
+template <bool Flat, Real T>
+PLUME_INLINE ray_interval<T> quadric_roots(GVec3<T> f, GVec3<T> d, T r) noexcept {
+  if constexpr (Flat) {
+    f.y = zero<T>();
+    d.y = zero<T>();
+  }
+  T const a = d.dot(d), b = f.dot(d), c = f.dot(f) - r * r;
+  GVec3<T> const l = f - d * (b / a);
+  T const disc = r * r - l.dot(l);
+  T const sq = plume::sqrt(a * disc);
+  T const q = -(b + plume::copysign(sq, b));
+  // q = 0 only when the origin is on the surface and the line tangent there: both roots 0.
+  T const t0 = plume::select(q == zero<T>(), zero<T>(), c / q);
+  T const t1 = q / a;
+  ray_interval<T> out;
+  out.ok = disc >= zero<T>();
+  out.tin = min_of(t0, t1);
+  out.tout = max_of(t0, t1);
+  return out;
+}
+
+/// The slab lo <= o + t d <= hi along one axis; a zero d is parallel (inside or empty).
+template <Real T>
+struct slab {
+  T tin, tout;
+};
+template <Real T>
+PLUME_INLINE slab<T> slab_interval(T o, T d, T lo, T hi) noexcept {
+  T const inf = infinity<T>();
+  mask_t<T> const par = d == zero<T>();
+  mask_t<T> const in = (o >= lo) & (o <= hi);
+  T const inv = one<T>() / d;
+  T const t1 = (lo - o) * inv, t2 = (hi - o) * inv;
+  T const pin = plume::select(in, -inf, inf), pout = plume::select(in, inf, -inf);
+  return {plume::select(par, pin, min_of(t1, t2)), plume::select(par, pout, max_of(t1, t2))};
+}
+
+/// Turns an interval into the hit of the conventions above.
+template <Real T>
+PLUME_INLINE GRayHit<T> finish(mask_t<T> valid, mask_t<T> inside, ray_interval<T> const& iv,
+                               T max_toi, bool solid) noexcept {
+  using V = GVec3<T>;
+  T const z = zero<T>();
+  auto const enter = !inside & iv.ok & (iv.tout >= z) & (iv.tin <= iv.tout);
+  T const t_enter = max_of(iv.tin, z);
+  T toi;
+  V n;
+  mask_t<T> hit;
+  if (solid) {
+    toi = plume::select(inside, z, t_enter);
+    n = V::select(inside, V{}, iv.n_in);
+    hit = valid & (inside | enter);
+  } else {
+    toi = plume::select(inside, max_of(iv.tout, z), t_enter);
+    n = V::select(inside, iv.n_out, iv.n_in);
+    hit = valid & (enter | (inside & iv.ok & (iv.tout >= z) & (iv.tout < infinity<T>())));
+  }
+  hit = hit & (toi <= max_toi);
+  return {hit, plume::select(hit, toi, infinity<T>()), V::select(hit, n, V{})};
+}
+
+template <Real T>
+PLUME_INLINE mask_t<T> ray_valid(GRay3<T> const& ray, T max_toi) noexcept {
+  T const s = ((ray.origin.x - ray.origin.x) + (ray.origin.y - ray.origin.y)) +
+              ((ray.origin.z - ray.origin.z) + (ray.dir.x - ray.dir.x)) +
+              ((ray.dir.y - ray.dir.y) + (ray.dir.z - ray.dir.z));
+  return (s == zero<T>()) & !plume::is_nan(max_toi);
+}
+
+/// Sphere of radius r at f's origin: f is the ray origin relative to the centre.
+template <Real T>
+PLUME_INLINE ray_interval<T> sphere_part(GVec3<T> const& f, GVec3<T> const& d, T r) noexcept {
+  ray_interval<T> iv = quadric_roots<false>(f, d, r);
+  iv.n_in = (f + d * iv.tin).normalize_or_zero();
+  iv.n_out = (f + d * iv.tout).normalize_or_zero();
+  return iv;
+}
+
+} // namespace detail
+
+// ==================================================================================== shapes
+
+/// Sphere (local frame: centred at the origin).
+template <Real T>
+GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray, T max_toi,
+                          bool solid = true) noexcept {
+  auto const iv = detail::sphere_part(ray.origin, ray.dir, s.radius);
+  auto const inside = ray.origin.length_squared() <= s.radius * s.radius;
+  return detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+}
+
+/// Cuboid (local frame: the box [-e, e]).
+template <Real T>
+GRayHit<T> ray_cast_local(GCuboid<T> const& box, GRay3<T> const& ray, T max_toi,
+                          bool solid = true) noexcept {
+  using V = GVec3<T>;
+  GVec3<T> const& o = ray.origin;
+  GVec3<T> const& d = ray.dir;
+  GVec3<T> const& e = box.half_extents;
+  auto const sx = detail::slab_interval(o.x, d.x, -e.x, e.x);
+  auto const sy = detail::slab_interval(o.y, d.y, -e.y, e.y);
+  auto const sz = detail::slab_interval(o.z, d.z, -e.z, e.z);
+  T const z = zero<T>();
+  // Entry: the slab entered last (first axis on ties); exit: the slab left first.
+  auto const y_in = sy.tin > sx.tin;
+  T tin = plume::select(y_in, sy.tin, sx.tin);
+  auto const z_in = sz.tin > tin;
+  tin = plume::select(z_in, sz.tin, tin);
+  auto const y_out = sy.tout < sx.tout;
+  T tout = plume::select(y_out, sy.tout, sx.tout);
+  auto const z_out = sz.tout < tout;
+  tout = plume::select(z_out, sz.tout, tout);
+  auto const axis = [&](auto y_sel, auto z_sel, T sign_x, T sign_y, T sign_z) {
+    V n{sign_x, z, z};
+    n = V::select(y_sel, V{z, sign_y, z}, n);
+    return V::select(z_sel, V{z, z, sign_z}, n);
+  };
+  auto const sgn = [&](T c) { return plume::select(c < z, -one<T>(), one<T>()); };
+  detail::ray_interval<T> iv;
+  iv.ok = tin <= tout;
+  iv.tin = tin;
+  iv.tout = tout;
+  iv.n_in = axis(y_in & !z_in, z_in, -sgn(d.x), -sgn(d.y), -sgn(d.z));
+  iv.n_out = axis(y_out & !z_out, z_out, sgn(d.x), sgn(d.y), sgn(d.z));
+  auto const inside = (o.abs().cmple(e)).all();
+  return detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+}
+
+/// Capsule (local frame: radius r around the segment (0, -h, 0) - (0, h, 0)): the first
+/// entry into the union of the side (an infinite cylinder clipped to |y| <= h) and the two
+/// end spheres, which is the entry into the capsule; the exit likewise.
+template <Real T>
+GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& ray, T max_toi,
+                          bool solid = true) noexcept {
+  using V = GVec3<T>;
+  V const& o = ray.origin;
+  V const& d = ray.dir;
+  T const z = zero<T>(), inf = infinity<T>(), h = cap.half_height, r = cap.radius;
+  V const top{z, h, z};
+  auto const side = detail::quadric_roots<true>(o, d, r);
+  auto const upper = detail::sphere_part(o - top, d, r);
+  auto const lower = detail::sphere_part(o + top, d, r);
+  auto const within = [&](T t) { return plume::abs(o.y + d.y * t) <= h; };
+  auto const radial = [&](T t) {
+    V const p = o + d * t;
+    return V{p.x, z, p.z}.normalize_or_zero();
+  };
+  auto const side_in = side.ok & within(side.tin), side_out = side.ok & within(side.tout);
+  // Earliest entry and latest exit over the parts.
+  T tin = plume::select(side_in, side.tin, inf);
+  V n_in = radial(side.tin);
+  T tout = plume::select(side_out, side.tout, -inf);
+  V n_out = radial(side.tout);
+  for (auto const* part : {&upper, &lower}) {
+    auto const earlier = part->ok & (part->tin < tin);
+    tin = plume::select(earlier, part->tin, tin);
+    n_in = V::select(earlier, part->n_in, n_in);
+    auto const later = part->ok & (part->tout > tout);
+    tout = plume::select(later, part->tout, tout);
+    n_out = V::select(later, part->n_out, n_out);
+  }
+  mask_t<T> const meets = tin <= tout;
+  detail::ray_interval<T> iv{meets, tin, tout, n_in, n_out};
+  T const cy = plume::clamp(o.y, -h, h);
+  auto const inside = (V{o.x, o.y - cy, o.z}.length_squared() <= r * r);
+  return detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+}
+
+/// Cylinder (local frame: radius r around Y, caps at y = +-h): the intersection of the
+/// infinite cylinder's interval and the slab |y| <= h. A ray along the axis is parallel to
+/// the side (inside or outside the radius), one with dir.y = 0 parallel to the caps.
+template <Real T>
+GRayHit<T> ray_cast_local(GCylinder<T> const& cyl, GRay3<T> const& ray, T max_toi,
+                          bool solid = true) noexcept {
+  using V = GVec3<T>;
+  V const& o = ray.origin;
+  V const& d = ray.dir;
+  T const z = zero<T>(), inf = infinity<T>(), h = cyl.half_height, r = cyl.radius;
+  auto side = detail::quadric_roots<true>(o, d, r);
+  auto const axial = (d.x == z) & (d.z == z);
+  auto const in_disc = o.x * o.x + o.z * o.z <= r * r;
+  side.ok = plume::select(axial, in_disc, side.ok);
+  side.tin = plume::select(axial, -inf, side.tin);
+  side.tout = plume::select(axial, inf, side.tout);
+  auto const caps = detail::slab_interval(o.y, d.y, -h, h);
+  auto const cap_in = caps.tin > side.tin, cap_out = caps.tout < side.tout;
+  T const tin = plume::select(cap_in, caps.tin, side.tin);
+  T const tout = plume::select(cap_out, caps.tout, side.tout);
+  auto const radial = [&](T t) {
+    V const p = o + d * t;
+    return V{p.x, z, p.z}.normalize_or_zero();
+  };
+  T const up = plume::select(d.y < z, one<T>(), -one<T>()); // the cap the ray enters faces -dir
+  mask_t<T> const meets = side.ok & (tin <= tout);
+  detail::ray_interval<T> iv{meets, tin, tout, V::select(cap_in, V{z, up, z}, radial(tin)),
+                             V::select(cap_out, V{z, -up, z}, radial(tout))};
+  auto const inside = in_disc & (plume::abs(o.y) <= h);
+  return detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+}
+
+/// Half-space (local frame: the solid n . p <= 0).
+template <Real T>
+GRayHit<T> ray_cast_local(GHalfSpace<T> const& hs, GRay3<T> const& ray, T max_toi,
+                          bool solid = true) noexcept {
+  T const z = zero<T>(), inf = infinity<T>();
+  T const s = hs.normal.dot(ray.origin), dn = hs.normal.dot(ray.dir);
+  T const t = -s / dn;
+  auto const inside = s <= z;
+  // Outside: entered at t when moving towards the plane. Inside: left at t when moving out.
+  detail::ray_interval<T> iv;
+  iv.ok = plume::select(inside, dn > z, dn < z);
+  iv.tin = plume::select(inside, -inf, t);
+  iv.tout = plume::select(inside, t, inf);
+  iv.n_in = hs.normal;
+  iv.n_out = hs.normal;
+  return detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+}
+
+/// Any shape at a pose: the ray is moved into the shape frame, the normal back out.
+template <class Shape, Real T>
+GRayHit<T> ray_cast(Shape const& shape, GIso3<T> const& pose, GRay3<T> const& ray, T max_toi,
+                    bool solid = true) noexcept {
+  GRay3<T> const local{pose.inverse_transform_point(ray.origin),
+                       pose.inverse_transform_vector(ray.dir)};
+  GRayHit<T> h = ray_cast_local(shape, local, max_toi, solid);
+  h.normal = pose.transform_vector(h.normal);
+  return h;
+}
+
+/// An axis-aligned box in world space (the slab test of GCuboid without a pose).
+template <Real T>
+GRayHit<T> ray_cast(GAabb3<T> const& box, GRay3<T> const& ray, T max_toi,
+                    bool solid = true) noexcept {
+  GVec3<T> const c = (box.min + box.max) * half<T>();
+  GVec3<T> const e = (box.max - box.min) * half<T>();
+  return ray_cast_local(GCuboid<T>{e}, GRay3<T>{ray.origin - c, ray.dir}, max_toi, solid);
+}
+
+} // namespace plume
+
+PLUME_MASK_CODE_END

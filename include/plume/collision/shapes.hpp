@@ -1,0 +1,153 @@
+// plume/collision/shapes.hpp - the primitive shapes of the collision module, each defined in
+// its own local frame and placed in the world by a pose (GIso3<T>), generic over T: with a
+// wide T, lane i is a different shape of the same kind.
+//
+//   GSphere<T>     radius r, centred at the local origin
+//   GCapsule<T>    the points within r of the segment from (0, -h, 0) to (0, h, 0)
+//   GCuboid<T>     the box [-e, e] (e: half extents)
+//   GCylinder<T>   radius r around local Y, flat caps at y = +-h
+//   GHalfSpace<T>  the solid side n . p <= 0 of the plane through the local origin (n unit,
+//                  pointing out of the solid)
+//
+// Each shape has volume(), local_aabb() and aabb(pose) (a half-space's box is infinite), and
+// support(dir): the point of the shape farthest along dir (dir need not be unit; a zero dir
+// gives a point of the shape). Degenerate sizes (radius 0, zero extents) are valid shapes:
+// a point, a segment, a flat box.
+#pragma once
+
+#include <plume/math/aabb3.hpp>
+#include <plume/math/iso3.hpp>
+#include <plume/math/vec3.hpp>
+#include <plume/numerics.hpp>
+
+PLUME_MASK_CODE_BEGIN
+
+namespace plume {
+
+namespace detail {
+/// The world box of a local box [lo, hi] placed by pose: centre moved, half extents through
+/// |R| (each world half extent is the sum of |R_ij| e_j).
+template <Real T>
+PLUME_INLINE GAabb3<T> place_box(GVec3<T> const& centre, GVec3<T> const& half,
+                                 GIso3<T> const& pose) noexcept {
+  GVec3<T> const c = pose.transform_point(centre);
+  GVec3<T> const ax = pose.rotation * GVec3<T>{half.x, zero<T>(), zero<T>()};
+  GVec3<T> const ay = pose.rotation * GVec3<T>{zero<T>(), half.y, zero<T>()};
+  GVec3<T> const az = pose.rotation * GVec3<T>{zero<T>(), zero<T>(), half.z};
+  GVec3<T> const e = (ax.abs() + ay.abs()) + az.abs();
+  return {c - e, c + e};
+}
+} // namespace detail
+
+template <Real T>
+struct GSphere {
+  T radius;
+
+  T volume() const noexcept {
+    return (splat<T>(4.0 / 3.0) * pi<T>()) * ((radius * radius) * radius);
+  }
+  GAabb3<T> local_aabb() const noexcept {
+    GVec3<T> const e = GVec3<T>::splat(radius);
+    return {-e, e};
+  }
+  GAabb3<T> aabb(GIso3<T> const& pose) const noexcept {
+    GVec3<T> const e = GVec3<T>::splat(radius);
+    return {pose.translation - e, pose.translation + e};
+  }
+  /// radius * dir / |dir| (the centre for a zero dir).
+  GVec3<T> support(GVec3<T> const& dir) const noexcept { return dir.normalize_or_zero() * radius; }
+};
+
+template <Real T>
+struct GCapsule {
+  T half_height;
+  T radius;
+
+  T volume() const noexcept {
+    T const r2 = radius * radius;
+    return pi<T>() * r2 * (two<T>() * half_height + splat<T>(4.0 / 3.0) * radius);
+  }
+  GAabb3<T> local_aabb() const noexcept {
+    GVec3<T> const e{radius, half_height + radius, radius};
+    return {-e, e};
+  }
+  GAabb3<T> aabb(GIso3<T> const& pose) const noexcept {
+    GVec3<T> const tip = pose.rotation * GVec3<T>{zero<T>(), half_height, zero<T>()};
+    GVec3<T> const e = tip.abs() + GVec3<T>::splat(radius);
+    return {pose.translation - e, pose.translation + e};
+  }
+  /// The segment end farther along dir (the upper one on ties) plus radius along dir.
+  GVec3<T> support(GVec3<T> const& dir) const noexcept {
+    T const y = plume::select(dir.y < zero<T>(), -half_height, half_height);
+    return GVec3<T>{zero<T>(), y, zero<T>()} + dir.normalize_or_zero() * radius;
+  }
+};
+
+template <Real T>
+struct GCuboid {
+  GVec3<T> half_extents;
+
+  T volume() const noexcept {
+    return splat<T>(8) * ((half_extents.x * half_extents.y) * half_extents.z);
+  }
+  GAabb3<T> local_aabb() const noexcept { return {-half_extents, half_extents}; }
+  GAabb3<T> aabb(GIso3<T> const& pose) const noexcept {
+    return detail::place_box(GVec3<T>{}, half_extents, pose);
+  }
+  /// The corner farther along dir (positive on ties and zeros).
+  GVec3<T> support(GVec3<T> const& dir) const noexcept {
+    T const z = zero<T>();
+    return {plume::select(dir.x < z, -half_extents.x, half_extents.x),
+            plume::select(dir.y < z, -half_extents.y, half_extents.y),
+            plume::select(dir.z < z, -half_extents.z, half_extents.z)};
+  }
+};
+
+template <Real T>
+struct GCylinder {
+  T half_height;
+  T radius;
+
+  T volume() const noexcept { return pi<T>() * (radius * radius) * (two<T>() * half_height); }
+  GAabb3<T> local_aabb() const noexcept {
+    GVec3<T> const e{radius, half_height, radius};
+    return {-e, e};
+  }
+  GAabb3<T> aabb(GIso3<T> const& pose) const noexcept {
+    // The rim circle's extent along world axis i is r sqrt(1 - a_i^2) (a: the world axis).
+    GVec3<T> const axis = pose.rotation * GVec3<T>::Y;
+    GVec3<T> const tip = axis * half_height;
+    GVec3<T> const rim{plume::sqrt(plume::max(one<T>() - axis.x * axis.x, zero<T>())),
+                       plume::sqrt(plume::max(one<T>() - axis.y * axis.y, zero<T>())),
+                       plume::sqrt(plume::max(one<T>() - axis.z * axis.z, zero<T>()))};
+    GVec3<T> const e = tip.abs() + rim * radius;
+    return {pose.translation - e, pose.translation + e};
+  }
+  /// The rim point farther along dir: (r dir_xz / |dir_xz|, +-h, ...); the axis end for a dir
+  /// along Y.
+  GVec3<T> support(GVec3<T> const& dir) const noexcept {
+    T const xz2 = dir.x * dir.x + dir.z * dir.z;
+    T const s = plume::select(xz2 > zero<T>(), radius / plume::sqrt(xz2), zero<T>());
+    return {dir.x * s, plume::select(dir.y < zero<T>(), -half_height, half_height), dir.z * s};
+  }
+};
+
+template <Real T>
+struct GHalfSpace {
+  GVec3<T> normal; ///< unit, out of the solid: the solid is normal . p <= 0
+
+  /// Everything (an infinite box); there is no support point for directions along -normal.
+  GAabb3<T> aabb(GIso3<T> const&) const noexcept {
+    return {GVec3<T>::splat(-infinity<T>()), GVec3<T>::splat(infinity<T>())};
+  }
+};
+
+using Sphere = GSphere<float>;
+using Capsule = GCapsule<float>;
+using Cuboid = GCuboid<float>;
+using Cylinder = GCylinder<float>;
+using HalfSpace = GHalfSpace<float>;
+
+} // namespace plume
+
+PLUME_MASK_CODE_END

@@ -1,0 +1,410 @@
+// Closed-form ray casts: against long-double oracles on random rays, the notes' bad-input
+// cases, the robust sphere discriminant on far spheres, and lane-exactness of every shape.
+#include "../math/math_support.hpp"
+
+#include <plume/collision.hpp>
+
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <vector>
+
+using namespace plume;
+using namespace plume::test;
+
+namespace {
+
+using LD = long double;
+struct ld3 {
+  LD x, y, z;
+};
+ld3 ld(Vec3 v) { return {v.x, v.y, v.z}; }
+LD dot(ld3 a, ld3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+
+/// First t >= 0 with |o + t d - c|^2 = r^2 (entry; or exit when the origin is inside and
+/// exit is asked), naive quadratic in long double.
+std::optional<LD> sphere_oracle(ld3 o, ld3 d, ld3 c, LD r, bool exit = false) {
+  ld3 const f{o.x - c.x, o.y - c.y, o.z - c.z};
+  LD const a = dot(d, d), b = dot(f, d), cc = dot(f, f) - r * r;
+  LD const disc = b * b - a * cc;
+  if (disc < 0 || a == 0) return std::nullopt;
+  LD const s = std::sqrt(disc);
+  LD const t0 = (-b - s) / a, t1 = (-b + s) / a;
+  if (exit) return t1 >= 0 ? std::optional<LD>(t1) : std::nullopt;
+  if (t1 < 0) return std::nullopt;
+  return t0 >= 0 ? t0 : 0;
+}
+
+/// Slab test in long double; origin-in-slab decides parallel axes.
+std::optional<LD> box_oracle(ld3 o, ld3 d, ld3 e) {
+  LD tin = -INFINITY, tout = INFINITY;
+  LD const oo[3] = {o.x, o.y, o.z}, dd[3] = {d.x, d.y, d.z}, ee[3] = {e.x, e.y, e.z};
+  for (int i = 0; i < 3; ++i) {
+    if (dd[i] == 0) {
+      if (std::abs(oo[i]) > ee[i]) return std::nullopt;
+      continue;
+    }
+    LD t1 = (-ee[i] - oo[i]) / dd[i], t2 = (ee[i] - oo[i]) / dd[i];
+    if (t1 > t2) std::swap(t1, t2);
+    tin = std::max(tin, t1);
+    tout = std::min(tout, t2);
+  }
+  if (tin > tout || tout < 0) return std::nullopt;
+  return std::max<LD>(tin, 0);
+}
+
+/// Capsule entry: the earliest of the side (clipped to |y| <= h) and the two end spheres.
+std::optional<LD> capsule_oracle(ld3 o, ld3 d, LD h, LD r) {
+  std::optional<LD> best;
+  auto take = [&](std::optional<LD> t) {
+    if (t && (!best || *t < *best)) best = t;
+  };
+  take(sphere_oracle(o, d, {0, h, 0}, r));
+  take(sphere_oracle(o, d, {0, -h, 0}, r));
+  LD const a = d.x * d.x + d.z * d.z, b = o.x * d.x + o.z * d.z, c = o.x * o.x + o.z * o.z - r * r;
+  LD const disc = b * b - a * c;
+  if (a > 0 && disc >= 0) {
+    LD const t0 = (-b - std::sqrt(disc)) / a, t1 = (-b + std::sqrt(disc)) / a;
+    if (t1 >= 0) {
+      LD const t = std::max<LD>(t0, 0);
+      if (std::abs(o.y + d.y * t) <= h) take(t);
+    }
+  }
+  return best;
+}
+
+/// Cylinder entry by clipping the ray's interval against the side and the caps.
+std::optional<LD> cylinder_oracle(ld3 o, ld3 d, LD h, LD r) {
+  LD tin = -INFINITY, tout = INFINITY;
+  LD const a = d.x * d.x + d.z * d.z, b = o.x * d.x + o.z * d.z, c = o.x * o.x + o.z * o.z - r * r;
+  if (a == 0) {
+    if (c > 0) return std::nullopt;
+  } else {
+    LD const disc = b * b - a * c;
+    if (disc < 0) return std::nullopt;
+    tin = (-b - std::sqrt(disc)) / a;
+    tout = (-b + std::sqrt(disc)) / a;
+  }
+  if (d.y == 0) {
+    if (std::abs(o.y) > h) return std::nullopt;
+  } else {
+    LD t1 = (-h - o.y) / d.y, t2 = (h - o.y) / d.y;
+    if (t1 > t2) std::swap(t1, t2);
+    tin = std::max(tin, t1);
+    tout = std::min(tout, t2);
+  }
+  if (tin > tout || tout < 0) return std::nullopt;
+  return std::max<LD>(tin, 0);
+}
+
+/// Compares plume (float, solid casts in the local frame) with an oracle on random rays:
+/// hit agreement away from grazing, toi within tol, and the normal against the surface.
+template <class Shape, class Oracle, class Grazing>
+void check_against_oracle(char const* name, Shape const& shape, Oracle oracle, Grazing grazing,
+                          double tol) {
+  rng r(17);
+  int compared = 0, hits = 0, mismatches = 0;
+  for (int t = 0; t < 20000; ++t) {
+    Vec3 const o = r.vec3<float>(-4, 4);
+    // Half the rays aim at a point near the shape, half go anywhere.
+    Vec3 const target = r.vec3<float>(-1.5, 1.5);
+    Vec3 const d = t % 2 ? (target - o) * float(r.uniform(0.2, 3)) : r.vec3<float>(-1, 1);
+    auto const h = ray_cast_local(shape, Ray3{o, d}, std::numeric_limits<float>::infinity());
+    auto const want = oracle(ld(o), ld(d));
+    if (grazing(ld(o), ld(d))) continue; // tangency: either answer is right
+    ++compared;
+    if (bool(h.hit) != want.has_value()) {
+      if (mismatches++ < 3)
+        FAIL_CHECK(name << ": hit " << h.hit << " vs oracle " << want.has_value() << " for o " << o
+                        << " d " << d);
+      continue;
+    }
+    if (!want) continue;
+    ++hits;
+    LD const scale = 1 + *want * std::sqrt(dot(ld(d), ld(d)));
+    if (std::abs(LD(h.toi) - *want) * std::sqrt(dot(ld(d), ld(d))) > tol * scale &&
+        mismatches++ < 3)
+      FAIL_CHECK(name << ": toi " << h.toi << " vs " << double(*want) << " for o " << o << " d "
+                      << d);
+    if (*want > 0) CHECK(std::abs(h.normal.length() - 1) < 1e-5f);
+  }
+  INFO(name << ": " << compared << " rays compared, " << hits << " hits");
+  CHECK(mismatches == 0);
+  CHECK(hits > 2000);
+}
+
+} // namespace
+
+TEST_CASE("ray casts agree with long-double oracles", "[collision][ray]") {
+  // Grazing: the oracle's discriminant is within a relative 1e-4 of zero, or the hit is on a
+  // seam the float and long-double answers may see on either side.
+  check_against_oracle(
+      "sphere", Sphere{1.25f},
+      [](ld3 o, ld3 d) {
+        return sphere_oracle(o, d, {0, 0, 0}, 1.25L);
+      },
+      [](ld3 o, ld3 d) {
+        LD const a = dot(d, d), b = dot(o, d), c = dot(o, o) - 1.25L * 1.25L;
+        return std::abs(b * b - a * c) <= 1e-4L * (b * b + std::abs(a * c)) || std::abs(c) < 1e-5L;
+      },
+      2e-5);
+  Vec3 const e{1.5f, 0.5f, 1};
+  check_against_oracle(
+      "cuboid", Cuboid{e}, [&](ld3 o, ld3 d) { return box_oracle(o, d, ld(e)); },
+      [&](ld3 o, ld3 d) {
+        // Rays through an edge or corner region within a relative 1e-5.
+        auto const t = box_oracle(o, d, {e.x * (1 + 1e-5L), e.y * (1 + 1e-5L), e.z * (1 + 1e-5L)});
+        auto const u = box_oracle(o, d, {e.x * (1 - 1e-5L), e.y * (1 - 1e-5L), e.z * (1 - 1e-5L)});
+        return t.has_value() != u.has_value() ||
+               (std::abs(o.x) - e.x) * (std::abs(o.x) - e.x) < 1e-10L;
+      },
+      2e-5);
+  check_against_oracle(
+      "capsule", Capsule{0.75f, 0.5f},
+      [](ld3 o, ld3 d) { return capsule_oracle(o, d, 0.75L, 0.5L); },
+      [](ld3 o, ld3 d) {
+        auto const t = capsule_oracle(o, d, 0.75L, 0.5L * (1 + 1e-5L));
+        auto const u = capsule_oracle(o, d, 0.75L, 0.5L * (1 - 1e-5L));
+        return t.has_value() != u.has_value();
+      },
+      2e-5);
+  check_against_oracle(
+      "cylinder", Cylinder{0.75f, 0.5f},
+      [](ld3 o, ld3 d) { return cylinder_oracle(o, d, 0.75L, 0.5L); },
+      [](ld3 o, ld3 d) {
+        auto const t = cylinder_oracle(o, d, 0.75L * (1 + 1e-5L), 0.5L * (1 + 1e-5L));
+        auto const u = cylinder_oracle(o, d, 0.75L * (1 - 1e-5L), 0.5L * (1 - 1e-5L));
+        return t.has_value() != u.has_value();
+      },
+      2e-5);
+}
+
+TEST_CASE("ray casts: inside, surface, parallel, zero and non-finite input", "[collision][ray]") {
+  float const inf = std::numeric_limits<float>::infinity();
+  float const nan = std::numeric_limits<float>::quiet_NaN();
+  Sphere const s{1};
+  Cuboid const box{{1, 2, 3}};
+  SECTION("origin inside: solid hits at 0 with no normal, hollow at the exit") {
+    auto const a = ray_cast_local(s, Ray3{{0.5f, 0, 0}, {1, 0, 0}}, inf);
+    CHECK(a.hit);
+    CHECK(a.toi == 0);
+    CHECK(a.normal.length() == 0);
+    auto const b = ray_cast_local(s, Ray3{{0.5f, 0, 0}, {1, 0, 0}}, inf, false);
+    CHECK(b.hit);
+    CHECK(b.toi == 0.5f);
+    CHECK(b.normal.x == 1);
+    auto const c = ray_cast_local(box, Ray3{{0, 0, 0}, {0, -2, 0}}, inf, false);
+    CHECK(c.toi == 1);
+    CHECK(c.normal.y == -1);
+    auto const cap = ray_cast_local(Capsule{1, 0.5f}, Ray3{{0, 0, 0}, {0, 1, 0}}, inf, false);
+    CHECK(cap.toi == 1.5f);
+    CHECK(cap.normal.y == 1);
+  }
+  SECTION("origin on the surface") {
+    CHECK(ray_cast_local(s, Ray3{{1, 0, 0}, {1, 0, 0}}, inf).toi == 0); // solid: inside
+    auto const in = ray_cast_local(s, Ray3{{1, 0, 0}, {-1, 0, 0}}, inf, false);
+    CHECK(in.toi == 2); // hollow: across to the far side
+    CHECK(ray_cast_local(box, Ray3{{1, 0, 0}, {1, 0, 0}}, inf).hit);
+  }
+  SECTION("origin on a slab plane with a +0 or -0 direction component") {
+    for (float zero : {0.0f, -0.0f}) {
+      // Along the face y = 2 (grazing the box): hits, the origin being on the closed box.
+      auto const g = ray_cast_local(box, Ray3{{-5, 2, 0}, {1, zero, 0}}, inf);
+      CHECK(g.hit);
+      CHECK(g.toi == 4);
+      CHECK(g.normal.x == -1);
+      auto const m = ray_cast_local(box, Ray3{{-5, 2.001f, 0}, {1, zero, 0}}, inf);
+      CHECK_FALSE(m.hit);
+      CHECK(ray_cast(GAabb3<float>{{0, 0, 0}, {1, 1, 1}}, Ray3{{-1, 0, 1}, {1, zero, zero}}, inf)
+                .toi == 1);
+    }
+  }
+  SECTION("zero direction: only a solid shape around the origin") {
+    CHECK(ray_cast_local(s, Ray3{{0, 0, 0}, {0, 0, 0}}, inf).hit);
+    CHECK_FALSE(ray_cast_local(s, Ray3{{0, 0, 0}, {0, 0, 0}}, inf, false).hit);
+    CHECK_FALSE(ray_cast_local(s, Ray3{{3, 0, 0}, {0, 0, 0}}, inf).hit);
+    CHECK_FALSE(ray_cast_local(box, Ray3{{3, 0, 0}, {0, 0, 0}}, inf).hit);
+    CHECK_FALSE(ray_cast_local(Capsule{1, 1}, Ray3{{3, 0, 0}, {0, 0, 0}}, inf).hit);
+    CHECK_FALSE(ray_cast_local(Cylinder{1, 1}, Ray3{{0, 0, 0}, {0, 0, 0}}, inf, false).hit);
+    CHECK(ray_cast_local(Cylinder{1, 1}, Ray3{{0, 0, 0}, {0, 0, 0}}, inf).hit);
+  }
+  SECTION("NaN and infinity: a miss, never a NaN toi") {
+    for (Vec3 o : {Vec3{nan, 0, 0}, Vec3{-inf, 0, 0}})
+      for (auto const& h : {ray_cast_local(s, Ray3{o, {1, 0, 0}}, inf),
+                            ray_cast_local(box, Ray3{o, {1, 0, 0}}, inf),
+                            ray_cast_local(Capsule{1, 1}, Ray3{o, {1, 0, 0}}, inf),
+                            ray_cast_local(Cylinder{1, 1}, Ray3{o, {1, 0, 0}}, inf),
+                            ray_cast_local(HalfSpace{{0, 1, 0}}, Ray3{o, {1, 0, 0}}, inf)}) {
+        CHECK_FALSE(h.hit);
+        CHECK(h.toi == inf);
+      }
+    CHECK_FALSE(ray_cast_local(s, Ray3{{-3, 0, 0}, {nan, 0, 0}}, inf).hit);
+    CHECK_FALSE(ray_cast_local(s, Ray3{{-3, 0, 0}, {1, 0, 0}}, nan).hit);
+  }
+  SECTION("max distance: inclusive, infinite allowed") {
+    CHECK(ray_cast_local(s, Ray3{{-3, 0, 0}, {1, 0, 0}}, 2.0f).hit);
+    CHECK_FALSE(ray_cast_local(s, Ray3{{-3, 0, 0}, {1, 0, 0}}, 1.999f).hit);
+    CHECK(ray_cast_local(s, Ray3{{-3, 0, 0}, {0.5f, 0, 0}}, 4.0f).toi == 4); // non-unit dir
+  }
+  SECTION("grazing rays touch") {
+    auto const g = ray_cast_local(s, Ray3{{-3, 1, 0}, {1, 0, 0}}, inf);
+    CHECK(g.hit);
+    CHECK(g.toi == 3);
+    CHECK(g.normal.y == 1);
+  }
+  SECTION("radius 0 and zero extents") {
+    CHECK(ray_cast_local(Sphere{0}, Ray3{{-3, 0, 0}, {1, 0, 0}}, inf).toi == 3);
+    CHECK_FALSE(ray_cast_local(Sphere{0}, Ray3{{-3, 0.001f, 0}, {1, 0, 0}}, inf).hit);
+    CHECK(ray_cast_local(Cuboid{{1, 0, 1}}, Ray3{{0, 5, 0}, {0, -1, 0}}, inf).toi == 5);
+    CHECK(ray_cast_local(Capsule{1, 0}, Ray3{{0, 5, 0}, {0, -1, 0}}, inf).toi == 4);
+  }
+  SECTION("capsule and cylinder: along the axis, at the cap seam") {
+    Capsule const cap{1, 0.5f};
+    CHECK(ray_cast_local(cap, Ray3{{0, 5, 0}, {0, -1, 0}}, inf).toi == 3.5f);
+    CHECK(ray_cast_local(cap, Ray3{{0.4f, 5, 0}, {0, -1, 0}}, inf).hit);
+    CHECK_FALSE(ray_cast_local(cap, Ray3{{0.6f, 5, 0}, {0, -1, 0}}, inf).hit);
+    auto const seam = ray_cast_local(cap, Ray3{{-3, 1, 0}, {1, 0, 0}}, inf); // at y = h
+    CHECK(seam.toi == 2.5f);
+    CHECK(seam.normal.x == -1);
+    Cylinder const cyl{1, 0.5f};
+    auto const top = ray_cast_local(cyl, Ray3{{0.3f, 5, 0}, {0, -1, 0}}, inf);
+    CHECK(top.toi == 4);
+    CHECK(top.normal.y == 1);
+    CHECK_FALSE(ray_cast_local(cyl, Ray3{{0.6f, 5, 0}, {0, -1, 0}}, inf).hit);
+    auto const rim = ray_cast_local(cyl, Ray3{{-3, 1, 0}, {1, 0, 0}}, inf); // along the top cap
+    CHECK(rim.toi == 2.5f);
+  }
+  SECTION("half-space") {
+    HalfSpace const ground{{0, 1, 0}};
+    auto const h = ray_cast_local(ground, Ray3{{0, 2, 0}, {0, -0.5f, 0}}, inf);
+    CHECK(h.toi == 4);
+    CHECK(h.normal.y == 1);
+    CHECK_FALSE(ray_cast_local(ground, Ray3{{0, 2, 0}, {1, 0, 0}}, inf).hit);
+    CHECK(ray_cast_local(ground, Ray3{{0, -1, 0}, {1, 0, 0}}, inf).toi == 0);
+    CHECK(ray_cast_local(ground, Ray3{{0, -1, 0}, {0, 1, 0}}, inf, false).toi == 1);
+  }
+  SECTION("at a pose") {
+    Iso3 const pose = Iso3::from_rotation_translation(Quat::from_rotation_z(0.5f), {10, 0, 0});
+    auto const h = ray_cast(box, pose, Ray3{{10, 10, 0}, {0, -1, 0}}, inf);
+    CHECK(h.hit);
+    // The vertical line through the centre of the tilted box meets its local +X face (the top
+    // face spans x in [-1.84, -0.08]): normal (cos 0.5, sin 0.5, 0), at local x = 1, i.e.
+    // y = 1 / sin 0.5 above the centre.
+    CHECK((h.normal - Vec3{std::cos(0.5f), std::sin(0.5f), 0}).length() < 1e-6f);
+    CHECK(std::abs(h.toi - (10 - 1 / std::sin(0.5f))) < 1e-5f);
+    CHECK(std::abs(h.normal.length() - 1) < 1e-6f);
+  }
+}
+
+TEST_CASE("far spheres: the robust discriminant classifies rays like long double",
+          "[collision][ray]") {
+  // r / |f| = 1e-3: rays aimed within a few radii of a sphere 1000 radii away.
+  rng r(3);
+  int wrong = 0, naive_wrong = 0, n = 0;
+  for (int t = 0; t < 20000; ++t) {
+    Vec3 const c = r.unit3<float>() * 1000.0f;
+    Vec3 const aim = c + r.vec3<float>(-2, 2);
+    Vec3 const d = aim.normalize();
+    auto const want = sphere_oracle({0, 0, 0}, ld(d), ld(c), 1.0L);
+    auto const got = ray_cast_local(Sphere{1}, Ray3{-c, d}, std::numeric_limits<float>::infinity());
+    // Naive float: b^2 - a c.
+    float const b = (-c).dot(d), a = d.dot(d), cc = c.dot(c) - 1;
+    bool const naive = b * b - a * cc >= 0 && b < 0;
+    ++n;
+    wrong += bool(got.hit) != want.has_value();
+    naive_wrong += naive != want.has_value();
+  }
+  INFO("misclassified: robust " << wrong << ", naive " << naive_wrong << " of " << n);
+  CHECK(wrong <= n / 1000);
+  CHECK(naive_wrong > 10 * (wrong + 1));
+}
+
+TEST_CASE("far coordinates: a sphere 1e5 away", "[collision][ray]") {
+  for (float dist : {1e4f, 1e5f, 1e6f}) {
+    Vec3 const c{dist, dist * 0.5f, -dist};
+    Vec3 const o{0, 0, 0};
+    Vec3 const d = (c - o).normalize();
+    auto const h = ray_cast(Sphere{2}, Iso3::from_translation(c), Ray3{o, d},
+                            std::numeric_limits<float>::infinity());
+    INFO("distance " << dist);
+    REQUIRE(h.hit);
+    CHECK(std::abs(h.toi - (c.length() - 2)) <= 1e-6f * c.length() * 4);
+  }
+}
+
+#if PLUME_HAS_BATCHES
+TEMPLATE_LIST_TEST_CASE("every ray cast is lane-exact", "[collision][ray][lanes]",
+                        wide_real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  lane_pool<T> const pool(11);
+  rng r(5);
+  auto const make_ray = [&](std::size_t k) {
+    GVec3<T> o = r.vec3<T>(-4, 4), d = r.vec3<T>(-1, 1);
+    // Some lanes: adversarial components, zero directions, axis-parallel directions.
+    if (k % 3 == 0) o.x = pool.pick(k);
+    if (k % 5 == 0) d.y = pool.pick(k + 1);
+    if (k % 7 == 0) d = GVec3<T>{};
+    if (k % 4 == 1) d.x = zero<T>();
+    return GRay3<T>{o, d};
+  };
+  auto const same_hit = [](auto const& a, auto const& b) {
+    return same(a.toi, b.toi) && same(a.normal, b.normal) && a.hit == b.hit;
+  };
+  int failures = 0;
+  auto const check = [&](char const* name, auto const& wide_shape, auto lane_shape, auto cast) {
+    for (std::size_t k = 0; k < 200; ++k) {
+      GRay3<T> const ray = make_ray(k);
+      T const max_toi =
+          plume::select(r.elem<T>(0, 1) < splat<T>(0.2), r.elem<T>(0, 6), infinity<T>());
+      bool const solid = k % 2 == 0;
+      auto const w = cast(wide_shape, ray, max_toi, solid);
+      for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+        GRay3<S> const rl{lane(ray.origin, i), lane(ray.dir, i)};
+        auto const s = cast(lane_shape(i), rl, lane(max_toi, i), solid);
+        GRayHit<S> const wl{lane(w.hit, i), lane(w.toi, i), lane(w.normal, i)};
+        if (!same_hit(wl, s) && failures++ < 5)
+          FAIL_CHECK(name << " lane " << i << ": wide " << wl.toi << " " << wl.normal << " scalar "
+                          << s.toi << " " << s.normal);
+      }
+    }
+  };
+  T const radius = r.elem<T>(0, 2), hh = r.elem<T>(0, 1.5);
+  GVec3<T> const ext = r.vec3<T>(0, 2);
+  GIso3<T> const pose{r.quat<T>(), r.vec3<T>(-1, 1)};
+  auto const cast_local = [](auto const& shape, auto const& ray, auto max_toi, bool solid) {
+    return ray_cast_local(shape, ray, max_toi, solid);
+  };
+  check(
+      "sphere", GSphere<T>{radius}, [&](std::size_t i) { return GSphere<S>{lane(radius, i)}; },
+      cast_local);
+  check(
+      "cuboid", GCuboid<T>{ext}, [&](std::size_t i) { return GCuboid<S>{lane(ext, i)}; },
+      cast_local);
+  check(
+      "capsule", GCapsule<T>{hh, radius},
+      [&](std::size_t i) {
+        return GCapsule<S>{lane(hh, i), lane(radius, i)};
+      },
+      cast_local);
+  check(
+      "cylinder", GCylinder<T>{hh, radius},
+      [&](std::size_t i) {
+        return GCylinder<S>{lane(hh, i), lane(radius, i)};
+      },
+      cast_local);
+  GVec3<T> const hn = r.unit3<T>();
+  check(
+      "half-space", GHalfSpace<T>{hn}, [&](std::size_t i) { return GHalfSpace<S>{lane(hn, i)}; },
+      cast_local);
+  check(
+      "posed cuboid", std::pair{GCuboid<T>{ext}, pose},
+      [&](std::size_t i) {
+        return std::pair{GCuboid<S>{lane(ext, i)}, lane(pose, i)};
+      },
+      [](auto const& sp, auto const& ray, auto max_toi, bool solid) {
+        return ray_cast(sp.first, sp.second, ray, max_toi, solid);
+      });
+  CHECK(failures == 0);
+}
+#endif
