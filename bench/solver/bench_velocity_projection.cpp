@@ -46,7 +46,8 @@ problems const& data(int k) {
     }
   };
   for (std::size_t i = 0; i < P; ++i) {
-    p.v.push_back(unit(-1) * (0.5f + 2.25f * (u(g) + 1)));
+    plume::Vec3 const dir = unit(-1); // before the speed: operand order is unspecified
+    p.v.push_back(dir * (0.5f + 2.25f * (u(g) + 1)));
     for (int j = 0; j < k; ++j) {
       plume::Vec3 const n = unit(-0.3f);
       p.n.push_back(n);

@@ -17,8 +17,9 @@
 //    its origin is inside (toi = 0). A non-finite origin or direction, or a NaN max_toi, is
 //    a miss in that lane only.
 //  - Robust forms (notes/collision.md): the sphere and cylinder discriminants are computed
-//    as a (r^2 - |f - (b/a) d|^2), without the cancellation of b^2 - a c for small or far
-//    shapes, and the roots as c/q and q/a with q = -(b + sign(b) sqrt(disc)); slab tests
+//    as a (r^2 - |f - (b/a) d|^2) = a r^2 - |f x d|^2, without the cancellation of b^2 - a c
+//    for small or far shapes, and the roots as c/q and q/a with q = -(b + sign(b) sqrt(disc))
+//    (one division for both); slab tests
 //    treat a zero direction component (+0 or -0) as parallel and decide by whether the origin
 //    lies in the slab, so 0 * inf never makes a NaN.
 //  - A grazing ray that touches the surface in one point hits (tangency counts).
@@ -55,13 +56,20 @@ using RayHit = GRayHit<float>;
 
 namespace detail {
 
-/// The interval [tin, tout] of a line inside a convex set, with the normals at both ends.
+/// The interval [tin, tout] of a line inside a convex set.
 template <Real T>
 struct ray_interval {
   mask_t<T> ok; ///< the line meets the set
   T tin, tout;
-  GVec3<T> n_in, n_out;
 };
+
+/// v / |v|, or zero where that is not finite (normalize_or_zero, kept inline for wide
+/// kernels).
+template <Real T>
+PLUME_INLINE GVec3<T> unit_or_zero(GVec3<T> const& v) noexcept {
+  T const r = one<T>() / plume::sqrt(v.dot(v));
+  return GVec3<T>::select(plume::is_finite(r) & (r > zero<T>()), v * r, GVec3<T>{});
+}
 
 template <Real T>
 PLUME_INLINE T min_of(T a, T b) noexcept {
@@ -80,15 +88,18 @@ PLUME_INLINE ray_interval<T> quadric_roots(GVec3<T> f, GVec3<T> d, T r) noexcept
     d.y = zero<T>();
   }
   T const a = d.dot(d), b = f.dot(d), c = f.dot(f) - r * r;
-  GVec3<T> const l = f - d * (b / a);
-  T const disc = r * r - l.dot(l);
-  T const sq = plume::sqrt(a * disc);
+  // a (r^2 - |f - (b/a) d|^2) = a r^2 - |f x d|^2 (Lagrange's identity): the squared distance
+  // of the centre from the line, without b^2 - a c's cancellation and without a division.
+  T const disc = a * (r * r) - f.cross(d).length_squared();
+  T const sq = plume::sqrt(disc);
   T const q = -(b + plume::copysign(sq, b));
-  // q = 0 only when the origin is on the surface and the line tangent there: both roots 0.
-  T const t0 = plume::select(q == zero<T>(), zero<T>(), c / q);
-  T const t1 = q / a;
+  // Roots c/q and q/a with one division: (c a) / (q a) and (q q) / (q a). q = 0 only when the
+  // origin is on the surface and the line tangent there: both roots 0.
+  T const rq = one<T>() / (q * a);
+  T const t0 = plume::select(q == zero<T>(), zero<T>(), (c * a) * rq);
+  T const t1 = plume::select(q == zero<T>(), zero<T>(), (q * q) * rq);
   ray_interval<T> out;
-  out.ok = disc >= zero<T>();
+  out.ok = (disc >= zero<T>()) & (a > zero<T>()); // a zero direction meets nothing
   out.tin = min_of(t0, t1);
   out.tout = max_of(t0, t1);
   return out;
@@ -110,28 +121,39 @@ PLUME_INLINE slab<T> slab_interval(T o, T d, T lo, T hi) noexcept {
   return {plume::select(par, pin, min_of(t1, t2)), plume::select(par, pout, max_of(t1, t2))};
 }
 
-/// Turns an interval into the hit of the conventions above.
+/// The hit of the conventions above, before its normal: `leaving` marks hollow hits from
+/// inside (the exit point), `bare` the solid hits from inside (toi 0, no normal).
 template <Real T>
-PLUME_INLINE GRayHit<T> finish(mask_t<T> valid, mask_t<T> inside, ray_interval<T> const& iv,
-                               T max_toi, bool solid) noexcept {
-  using V = GVec3<T>;
-  T const z = zero<T>();
-  auto const enter = !inside & iv.ok & (iv.tout >= z) & (iv.tin <= iv.tout);
-  T const t_enter = max_of(iv.tin, z);
+struct pre_hit {
+  mask_t<T> hit, leaving, bare;
   T toi;
-  V n;
-  mask_t<T> hit;
+};
+template <Real T>
+PLUME_INLINE pre_hit<T> finish(mask_t<T> valid, mask_t<T> inside, ray_interval<T> const& iv,
+                               T max_toi, bool solid) noexcept {
+  T const z = zero<T>();
+  auto const outside = !inside;
+  auto const enter = outside & iv.ok & (iv.tout >= z) & (iv.tin <= iv.tout);
+  T const t_enter = max_of(iv.tin, z);
+  pre_hit<T> h;
   if (solid) {
-    toi = plume::select(inside, z, t_enter);
-    n = V::select(inside, V{}, iv.n_in);
-    hit = valid & (inside | enter);
+    h.toi = plume::select(inside, z, t_enter);
+    h.hit = valid & (inside | enter);
+    h.leaving = z < z;
+    h.bare = inside;
   } else {
-    toi = plume::select(inside, max_of(iv.tout, z), t_enter);
-    n = V::select(inside, iv.n_out, iv.n_in);
-    hit = valid & (enter | (inside & iv.ok & (iv.tout >= z) & (iv.tout < infinity<T>())));
+    h.toi = plume::select(inside, max_of(iv.tout, z), t_enter);
+    h.hit = valid & (enter | (inside & iv.ok & (iv.tout >= z) & (iv.tout < infinity<T>())));
+    h.leaving = inside;
+    h.bare = z < z;
   }
-  hit = hit & (toi <= max_toi);
-  return {hit, plume::select(hit, toi, infinity<T>()), V::select(hit, n, V{})};
+  h.hit = h.hit & (h.toi <= max_toi);
+  h.toi = plume::select(h.hit, h.toi, infinity<T>());
+  return h;
+}
+template <Real T>
+PLUME_INLINE GRayHit<T> with_normal(pre_hit<T> const& h, GVec3<T> const& n) noexcept {
+  return {h.hit, h.toi, GVec3<T>::select(h.hit & !h.bare, n, GVec3<T>{})};
 }
 
 template <Real T>
@@ -145,10 +167,7 @@ PLUME_INLINE mask_t<T> ray_valid(GRay3<T> const& ray, T max_toi) noexcept {
 /// Sphere of radius r at f's origin: f is the ray origin relative to the centre.
 template <Real T>
 PLUME_INLINE ray_interval<T> sphere_part(GVec3<T> const& f, GVec3<T> const& d, T r) noexcept {
-  ray_interval<T> iv = quadric_roots<false>(f, d, r);
-  iv.n_in = (f + d * iv.tin).normalize_or_zero();
-  iv.n_out = (f + d * iv.tout).normalize_or_zero();
-  return iv;
+  return quadric_roots<false>(f, d, r);
 }
 
 } // namespace detail
@@ -157,17 +176,21 @@ PLUME_INLINE ray_interval<T> sphere_part(GVec3<T> const& f, GVec3<T> const& d, T
 
 /// Sphere (local frame: centred at the origin).
 template <Real T>
-GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray, T max_toi,
-                          bool solid = true) noexcept {
+PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray, T max_toi,
+                                       bool solid = true) noexcept {
   auto const iv = detail::sphere_part(ray.origin, ray.dir, s.radius);
   auto const inside = ray.origin.length_squared() <= s.radius * s.radius;
-  return detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+  auto const h = detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+  // The normal p / r with one division; a zero radius has no normal.
+  T const inv_r = one<T>() / s.radius;
+  GVec3<T> const n = GVec3<T>::select(s.radius > zero<T>(), ray.at(h.toi) * inv_r, GVec3<T>{});
+  return detail::with_normal(h, n);
 }
 
 /// Cuboid (local frame: the box [-e, e]).
 template <Real T>
-GRayHit<T> ray_cast_local(GCuboid<T> const& box, GRay3<T> const& ray, T max_toi,
-                          bool solid = true) noexcept {
+PLUME_INLINE GRayHit<T> ray_cast_local(GCuboid<T> const& box, GRay3<T> const& ray, T max_toi,
+                                       bool solid = true) noexcept {
   using V = GVec3<T>;
   GVec3<T> const& o = ray.origin;
   GVec3<T> const& d = ray.dir;
@@ -195,18 +218,21 @@ GRayHit<T> ray_cast_local(GCuboid<T> const& box, GRay3<T> const& ray, T max_toi,
   iv.ok = tin <= tout;
   iv.tin = tin;
   iv.tout = tout;
-  iv.n_in = axis(y_in & !z_in, z_in, -sgn(d.x), -sgn(d.y), -sgn(d.z));
-  iv.n_out = axis(y_out & !z_out, z_out, sgn(d.x), sgn(d.y), sgn(d.z));
   auto const inside = (o.abs().cmple(e)).all();
-  return detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+  auto const h = detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+  // Entering: the face of the entry slab, facing -dir; leaving: the exit slab's, facing dir.
+  auto const ys = plume::select(h.leaving, y_out & !z_out, y_in & !z_in);
+  auto const zs = plume::select(h.leaving, z_out, z_in);
+  T const flip = plume::select(h.leaving, one<T>(), -one<T>());
+  return detail::with_normal(h, axis(ys, zs, flip * sgn(d.x), flip * sgn(d.y), flip * sgn(d.z)));
 }
 
 /// Capsule (local frame: radius r around the segment (0, -h, 0) - (0, h, 0)): the first
 /// entry into the union of the side (an infinite cylinder clipped to |y| <= h) and the two
 /// end spheres, which is the entry into the capsule; the exit likewise.
 template <Real T>
-GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& ray, T max_toi,
-                          bool solid = true) noexcept {
+PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& ray, T max_toi,
+                                       bool solid = true) noexcept {
   using V = GVec3<T>;
   V const& o = ray.origin;
   V const& d = ray.dir;
@@ -216,37 +242,31 @@ GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& ray, T max_toi
   auto const upper = detail::sphere_part(o - top, d, r);
   auto const lower = detail::sphere_part(o + top, d, r);
   auto const within = [&](T t) { return plume::abs(o.y + d.y * t) <= h; };
-  auto const radial = [&](T t) {
-    V const p = o + d * t;
-    return V{p.x, z, p.z}.normalize_or_zero();
-  };
   auto const side_in = side.ok & within(side.tin), side_out = side.ok & within(side.tout);
   // Earliest entry and latest exit over the parts.
   T tin = plume::select(side_in, side.tin, inf);
-  V n_in = radial(side.tin);
   T tout = plume::select(side_out, side.tout, -inf);
-  V n_out = radial(side.tout);
   for (auto const* part : {&upper, &lower}) {
-    auto const earlier = part->ok & (part->tin < tin);
-    tin = plume::select(earlier, part->tin, tin);
-    n_in = V::select(earlier, part->n_in, n_in);
-    auto const later = part->ok & (part->tout > tout);
-    tout = plume::select(later, part->tout, tout);
-    n_out = V::select(later, part->n_out, n_out);
+    tin = plume::select(part->ok & (part->tin < tin), part->tin, tin);
+    tout = plume::select(part->ok & (part->tout > tout), part->tout, tout);
   }
   mask_t<T> const meets = tin <= tout;
-  detail::ray_interval<T> iv{meets, tin, tout, n_in, n_out};
+  detail::ray_interval<T> iv{meets, tin, tout};
   T const cy = plume::clamp(o.y, -h, h);
   auto const inside = (V{o.x, o.y - cy, o.z}.length_squared() <= r * r);
-  return detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+  auto const hit = detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+  // The outward normal at a point: away from the nearest point of the segment.
+  V const p = ray.at(hit.toi);
+  return detail::with_normal(hit,
+                             detail::unit_or_zero(V{p.x, p.y - plume::clamp(p.y, -h, h), p.z}));
 }
 
 /// Cylinder (local frame: radius r around Y, caps at y = +-h): the intersection of the
 /// infinite cylinder's interval and the slab |y| <= h. A ray along the axis is parallel to
 /// the side (inside or outside the radius), one with dir.y = 0 parallel to the caps.
 template <Real T>
-GRayHit<T> ray_cast_local(GCylinder<T> const& cyl, GRay3<T> const& ray, T max_toi,
-                          bool solid = true) noexcept {
+PLUME_INLINE GRayHit<T> ray_cast_local(GCylinder<T> const& cyl, GRay3<T> const& ray, T max_toi,
+                                       bool solid = true) noexcept {
   using V = GVec3<T>;
   V const& o = ray.origin;
   V const& d = ray.dir;
@@ -261,22 +281,22 @@ GRayHit<T> ray_cast_local(GCylinder<T> const& cyl, GRay3<T> const& ray, T max_to
   auto const cap_in = caps.tin > side.tin, cap_out = caps.tout < side.tout;
   T const tin = plume::select(cap_in, caps.tin, side.tin);
   T const tout = plume::select(cap_out, caps.tout, side.tout);
-  auto const radial = [&](T t) {
-    V const p = o + d * t;
-    return V{p.x, z, p.z}.normalize_or_zero();
-  };
-  T const up = plume::select(d.y < z, one<T>(), -one<T>()); // the cap the ray enters faces -dir
+  T const up = plume::select(d.y < z, one<T>(), -one<T>()); // the cap entered faces -dir
   mask_t<T> const meets = side.ok & (tin <= tout);
-  detail::ray_interval<T> iv{meets, tin, tout, V::select(cap_in, V{z, up, z}, radial(tin)),
-                             V::select(cap_out, V{z, -up, z}, radial(tout))};
+  detail::ray_interval<T> iv{meets, tin, tout};
   auto const inside = in_disc & (plume::abs(o.y) <= h);
-  return detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+  auto const hit = detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+  auto const on_cap = plume::select(hit.leaving, cap_out, cap_in);
+  V const p = ray.at(hit.toi);
+  V const n = V::select(on_cap, V{z, plume::select(hit.leaving, -up, up), z},
+                        detail::unit_or_zero(V{p.x, z, p.z}));
+  return detail::with_normal(hit, n);
 }
 
 /// Half-space (local frame: the solid n . p <= 0).
 template <Real T>
-GRayHit<T> ray_cast_local(GHalfSpace<T> const& hs, GRay3<T> const& ray, T max_toi,
-                          bool solid = true) noexcept {
+PLUME_INLINE GRayHit<T> ray_cast_local(GHalfSpace<T> const& hs, GRay3<T> const& ray, T max_toi,
+                                       bool solid = true) noexcept {
   T const z = zero<T>(), inf = infinity<T>();
   T const s = hs.normal.dot(ray.origin), dn = hs.normal.dot(ray.dir);
   T const t = -s / dn;
@@ -286,15 +306,14 @@ GRayHit<T> ray_cast_local(GHalfSpace<T> const& hs, GRay3<T> const& ray, T max_to
   iv.ok = plume::select(inside, dn > z, dn < z);
   iv.tin = plume::select(inside, -inf, t);
   iv.tout = plume::select(inside, t, inf);
-  iv.n_in = hs.normal;
-  iv.n_out = hs.normal;
-  return detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+  return detail::with_normal(
+      detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid), hs.normal);
 }
 
 /// Any shape at a pose: the ray is moved into the shape frame, the normal back out.
 template <class Shape, Real T>
-GRayHit<T> ray_cast(Shape const& shape, GIso3<T> const& pose, GRay3<T> const& ray, T max_toi,
-                    bool solid = true) noexcept {
+PLUME_INLINE GRayHit<T> ray_cast(Shape const& shape, GIso3<T> const& pose, GRay3<T> const& ray,
+                                 T max_toi, bool solid = true) noexcept {
   GRay3<T> const local{pose.inverse_transform_point(ray.origin),
                        pose.inverse_transform_vector(ray.dir)};
   GRayHit<T> h = ray_cast_local(shape, local, max_toi, solid);
@@ -304,8 +323,8 @@ GRayHit<T> ray_cast(Shape const& shape, GIso3<T> const& pose, GRay3<T> const& ra
 
 /// An axis-aligned box in world space (the slab test of GCuboid without a pose).
 template <Real T>
-GRayHit<T> ray_cast(GAabb3<T> const& box, GRay3<T> const& ray, T max_toi,
-                    bool solid = true) noexcept {
+PLUME_INLINE GRayHit<T> ray_cast(GAabb3<T> const& box, GRay3<T> const& ray, T max_toi,
+                                 bool solid = true) noexcept {
   GVec3<T> const c = (box.min + box.max) * half<T>();
   GVec3<T> const e = (box.max - box.min) * half<T>();
   return ray_cast_local(GCuboid<T>{e}, GRay3<T>{ray.origin - c, ray.dir}, max_toi, solid);

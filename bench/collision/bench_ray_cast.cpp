@@ -1,0 +1,153 @@
+// plume_bench_collision: closed-form ray casts, scalar against every width.
+//
+// Names follow <case>/f32/plume/x<width>; items = ray casts. "N rays x N shapes": ray i
+// against shape i (N = 4096; origins in [-4, 4]^3 aimed near the shape, so about half hit);
+// "one ray x N spheres": the same ray (splat) against every sphere. Shapes are given by a
+// centre (sphere, capsule, cylinder: the ray is moved into the shape frame by a subtraction),
+// a world box (AABB), or a full pose (oriented box: a quaternion rotation per ray).
+#include <plume/collision.hpp>
+
+#include <benchmark/benchmark.h>
+
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+constexpr std::size_t N = 4096;
+
+struct scene {
+  std::vector<plume::Vec3> o, d, c, e;
+  std::vector<float> r, h;
+  std::vector<plume::Quat> q;
+  scene() {
+    std::mt19937 g(21);
+    std::uniform_real_distribution<float> u(-1, 1);
+    for (std::size_t i = 0; i < N; ++i) {
+      plume::Vec3 const centre{u(g), u(g), u(g)};
+      plume::Vec3 const origin{4 * u(g), 4 * u(g), 4 * u(g)};
+      plume::Vec3 const aim = centre + plume::Vec3{u(g), u(g), u(g)} * 1.5f;
+      o.push_back(origin);
+      d.push_back((aim - origin).normalize());
+      c.push_back(centre);
+      e.push_back(plume::Vec3{0.3f + 0.5f * (u(g) + 1), 0.3f + 0.5f * (u(g) + 1),
+                              0.3f + 0.5f * (u(g) + 1)});
+      r.push_back(0.3f + 0.4f * (u(g) + 1));
+      h.push_back(0.2f + 0.4f * (u(g) + 1));
+      plume::Vec3 const axis = plume::Vec3{u(g), u(g), u(g) + 2}.normalize();
+      float const angle = 3 * u(g); // separate statements: argument order is unspecified
+      q.push_back(plume::Quat::from_axis_angle(axis, angle));
+    }
+  }
+};
+scene const& data() {
+  static scene s;
+  return s;
+}
+
+/// The scene packed for width L: element i/L holds items i..i+L-1 in its lanes.
+template <class T>
+struct packed {
+  std::vector<plume::GVec3<T>> o, d, c, e;
+  std::vector<T> r, h;
+  std::vector<plume::GQuat<T>> q;
+  packed() {
+    constexpr std::size_t L = plume::lanes_v<T>;
+    auto const& s = data();
+    for (std::size_t i = 0; i < N; i += L) {
+      plume::GVec3<T> o1, d1, c1, e1;
+      T r1{}, h1{};
+      plume::GQuat<T> q1;
+      for (std::size_t l = 0; l < L; ++l) {
+        o1 = plume::with_lane(o1, l, s.o[i + l]);
+        d1 = plume::with_lane(d1, l, s.d[i + l]);
+        c1 = plume::with_lane(c1, l, s.c[i + l]);
+        e1 = plume::with_lane(e1, l, s.e[i + l]);
+        r1 = plume::with_lane(r1, l, s.r[i + l]);
+        h1 = plume::with_lane(h1, l, s.h[i + l]);
+        q1 = plume::with_lane(q1, l, s.q[i + l]);
+      }
+      o.push_back(o1), d.push_back(d1), c.push_back(c1), e.push_back(e1);
+      r.push_back(r1), h.push_back(h1), q.push_back(q1);
+    }
+  }
+};
+
+template <class F>
+void run(benchmark::State& st, F&& f) {
+  for (auto _ : st)
+    f();
+  st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(N));
+}
+
+template <class T>
+void register_width() {
+  constexpr std::size_t L = plume::lanes_v<T>;
+  std::string const w = "/f32/plume/x" + std::to_string(L);
+  using V = plume::GVec3<T>;
+  T const inf = plume::infinity<T>();
+  auto reg = [&](char const* name, auto cast) {
+    benchmark::RegisterBenchmark((std::string(name) + w).c_str(), [cast](benchmark::State& st) {
+      packed<T> const p;
+      run(st, [&] {
+        for (std::size_t i = 0; i < p.o.size(); ++i) {
+          auto const hit = cast(p, i);
+          benchmark::DoNotOptimize(hit.toi);
+        }
+      });
+    });
+  };
+  reg("ray_sphere", [inf](packed<T> const& p, std::size_t i) {
+    return plume::ray_cast_local(plume::GSphere<T>{p.r[i]},
+                                 plume::GRay3<T>{p.o[i] - p.c[i], p.d[i]}, inf);
+  });
+  reg("ray_aabb", [inf](packed<T> const& p, std::size_t i) {
+    return plume::ray_cast(plume::GAabb3<T>{p.c[i] - p.e[i], p.c[i] + p.e[i]},
+                           plume::GRay3<T>{p.o[i], p.d[i]}, inf);
+  });
+  reg("ray_capsule", [inf](packed<T> const& p, std::size_t i) {
+    return plume::ray_cast_local(plume::GCapsule<T>{p.h[i], p.r[i]},
+                                 plume::GRay3<T>{p.o[i] - p.c[i], p.d[i]}, inf);
+  });
+  reg("ray_cylinder", [inf](packed<T> const& p, std::size_t i) {
+    return plume::ray_cast_local(plume::GCylinder<T>{p.h[i], p.r[i]},
+                                 plume::GRay3<T>{p.o[i] - p.c[i], p.d[i]}, inf);
+  });
+  reg("ray_oriented_box", [inf](packed<T> const& p, std::size_t i) {
+    return plume::ray_cast(plume::GCuboid<T>{p.e[i]}, plume::GIso3<T>{p.q[i], p.c[i]},
+                           plume::GRay3<T>{p.o[i], p.d[i]}, inf);
+  });
+  benchmark::RegisterBenchmark(("one_ray_spheres" + w).c_str(), [](benchmark::State& st) {
+    packed<T> const p;
+    auto const& s = data();
+    V const o(s.o[0]), d(s.d[0]);
+    run(st, [&] {
+      for (std::size_t i = 0; i < p.o.size(); ++i) {
+        auto const hit = plume::ray_cast_local(
+            plume::GSphere<T>{p.r[i]}, plume::GRay3<T>{o - p.c[i], d}, plume::infinity<T>());
+        benchmark::DoNotOptimize(hit.toi);
+      }
+    });
+  });
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+  register_width<float>();
+#if PLUME_HAS_BATCHES
+  register_width<plume::f32x4>();
+#endif
+#if PLUME_HAS_AVX2
+  register_width<plume::f32x8>();
+#endif
+#if PLUME_HAS_AVX512
+  register_width<plume::f32x16>();
+#endif
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
