@@ -49,5 +49,19 @@ int main() {
                          fix.x == -0.01f && fix.y == 0 && fix.z == 0.02f;
   std::printf("consumer: slide (%g, %g, %g), fix (%g, %g, %g)\n", slide.velocity.x,
               slide.velocity.y, slide.velocity.z, fix.x, fix.y, fix.z);
-  return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok && solver_ok) ? 0 : 1;
+  // The README's ray-cast example (capsules of half height 1, radius 0.5 at x = 10, rays
+  // from the origin along +x).
+  f32xN const half_heights(1.0f), radii(0.5f);
+  QuatxN const rotations(Quat::IDENTITY);
+  Vec3xN const centres(Vec3{10, 0, 0}), origins(Vec3::ZERO), directions(Vec3{2, 0, 0});
+  GCapsule<f32xN> const caps{half_heights, radii};
+  GIso3<f32xN> const poses{rotations, centres};
+  GRay3<f32xN> const rays{origins, directions};
+  GRayHit<f32xN> const hit = ray_cast(caps, poses, rays, infinity<f32xN>());
+  bool const ray_ok =
+      plume::all(hit.hit) && lane(hit.toi, 0) == 4.75f && lane(hit.normal, 0).x == -1;
+  std::printf("consumer: ray toi %g\n", lane(hit.toi, 0));
+  return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok && solver_ok && ray_ok)
+             ? 0
+             : 1;
 }
