@@ -332,6 +332,94 @@ TEST_CASE("far coordinates: a sphere 1e5 away", "[collision][ray]") {
   }
 }
 
+TEST_CASE("triangles: watertight on a fan, oracle hits, degenerate cases", "[collision][ray]") {
+  float const inf = std::numeric_limits<float>::infinity();
+  SECTION("a dense ray grid through a 16-triangle fan: every ray inside hits exactly once") {
+    // A fan around a centre off the grid's symmetry (so rays cross edges and the shared
+    // vertex exactly), tilted out of the z = 0 plane, wound consistently.
+    constexpr int K = 16;
+    Vec3 const centre{0.125f, -0.0625f, 0.25f};
+    std::vector<Vec3> ring;
+    for (int k = 0; k < K; ++k) {
+      float const a = 6.2831853f * float(k) / K;
+      ring.push_back({std::cos(a), std::sin(a), 0.25f + 0.125f * std::sin(2 * a)});
+    }
+    std::vector<Triangle> fan;
+    for (int k = 0; k < K; ++k)
+      fan.push_back({centre, ring[std::size_t(k)], ring[std::size_t((k + 1) % K)]});
+    int leaks = 0, doubles = 0, rays = 0;
+    for (int i = -300; i <= 300; ++i)
+      for (int j = -300; j <= 300; ++j) {
+        // Grid points at multiples of 1/256 hit the centre vertex (0.125, -0.0625) exactly.
+        Vec3 const o{float(i) / 256, float(j) / 256, 2};
+        if (Vec3{o.x, o.y, 0}.length() > 0.9f) continue; // inside the ring's polygon
+        ++rays;
+        int hits = 0;
+        for (auto const& t : fan)
+          hits += bool(ray_cast_local(t, Ray3{o, {0, 0, -1}}, inf).hit);
+        leaks += hits == 0;
+        doubles += hits > 1;
+      }
+    // Rays through the shared vertex and along the spokes, from several directions.
+    for (Vec3 d : {Vec3{0, 0, -1}, Vec3{0.3f, 0.1f, -1}, Vec3{-0.2f, 0.4f, -1}}) {
+      int hits = 0;
+      for (auto const& t : fan)
+        hits += bool(ray_cast_local(t, Ray3{centre - d * 2.0f, d}, inf).hit);
+      CHECK(hits == 1);
+    }
+    INFO(rays << " rays");
+    CHECK(leaks == 0);
+    CHECK(doubles == 0);
+  }
+  SECTION("hits agree with a long-double plane intersection") {
+    rng r(12);
+    int compared = 0;
+    for (int t = 0; t < 5000; ++t) {
+      Triangle const tri{r.vec3<float>(-1, 1), r.vec3<float>(-1, 1), r.vec3<float>(-1, 1)};
+      Vec3 const o = r.vec3<float>(-3, 3);
+      Vec3 const d = (r.vec3<float>(-0.8, 0.8) - o) * float(r.uniform(0.5, 2));
+      auto const h = ray_cast_local(tri, Ray3{o, d}, inf);
+      // Long double: barycentric coordinates of the line's plane crossing.
+      ld3 const a = ld(tri.a), b = ld(tri.b), c = ld(tri.c), oo = ld(o), dd = ld(d);
+      ld3 const e1{b.x - a.x, b.y - a.y, b.z - a.z}, e2{c.x - a.x, c.y - a.y, c.z - a.z};
+      ld3 const p{dd.y * e2.z - dd.z * e2.y, dd.z * e2.x - dd.x * e2.z, dd.x * e2.y - dd.y * e2.x};
+      LD const det = dot(e1, p);
+      if (std::abs(det) < 1e-6L) continue;
+      ld3 const s{oo.x - a.x, oo.y - a.y, oo.z - a.z};
+      LD const u = dot(s, p) / det;
+      ld3 const q{s.y * e1.z - s.z * e1.y, s.z * e1.x - s.x * e1.z, s.x * e1.y - s.y * e1.x};
+      LD const v = dot(dd, q) / det, tt = dot(e2, q) / det;
+      LD const margin = std::min({u, v, 1 - u - v});
+      if (std::abs(margin) < 1e-4L || std::abs(tt) < 1e-4L) continue; // on an edge: either way
+      bool const want = margin > 0 && tt > 0;
+      ++compared;
+      REQUIRE(bool(h.hit) == want);
+      if (want) {
+        CHECK(std::abs(LD(h.toi) - tt) <= 1e-5L * (1 + tt));
+        CHECK(h.normal.dot(d) <= 0);
+        CHECK(std::abs(h.normal.length() - 1) < 1e-5f);
+      }
+    }
+    CHECK(compared > 4000);
+  }
+  SECTION("degenerate triangles and rays in the plane miss; the back side hits") {
+    Triangle const tri{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    CHECK_FALSE(ray_cast_local(tri, Ray3{{-1, 0.2f, 0}, {1, 0, 0}}, inf).hit); // in the plane
+    CHECK_FALSE(
+        ray_cast_local(Triangle{{0, 0, 0}, {1, 1, 0}, {2, 2, 0}}, Ray3{{1, 1, 1}, {0, 0, -1}}, inf)
+            .hit);
+    CHECK_FALSE(
+        ray_cast_local(Triangle{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}, Ray3{{0, 0, 1}, {0, 0, -1}}, inf)
+            .hit);
+    auto const back = ray_cast_local(tri, Ray3{{0.2f, 0.2f, -1}, {0, 0, 1}}, inf);
+    CHECK(back.hit);
+    CHECK(back.toi == 1);
+    CHECK(back.normal.z == -1); // faces the ray
+    CHECK_FALSE(ray_cast_local(tri, Ray3{{0.2f, 0.2f, -1}, {0, 0, 0}}, inf).hit);
+    CHECK_FALSE(ray_cast_local(tri, Ray3{{0.2f, 0.2f, 1}, {0, 0, 1}}, inf).hit); // pointing away
+  }
+}
+
 #if PLUME_HAS_BATCHES
 TEMPLATE_LIST_TEST_CASE("every ray cast is lane-exact", "[collision][ray][lanes]",
                         wide_real_types) {

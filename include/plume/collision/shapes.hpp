@@ -8,6 +8,7 @@
 //   GCylinder<T>   radius r around local Y, flat caps at y = +-h
 //   GHalfSpace<T>  the solid side n . p <= 0 of the plane through the local origin (n unit,
 //                  pointing out of the solid)
+//   GTriangle<T>   vertices a, b, c (no interior: a surface)
 //
 // Each shape has volume(), local_aabb() and aabb(pose) (a half-space's box is infinite), and
 // support(dir): the point of the shape farthest along dir (dir need not be unit; a zero dir
@@ -142,11 +143,36 @@ struct GHalfSpace {
   }
 };
 
+/// A triangle a, b, c (counter-clockwise seen from the side its normal points to). Zero area
+/// (collinear or coincident vertices) is valid: rays miss it.
+template <Real T>
+struct GTriangle {
+  GVec3<T> a, b, c;
+
+  /// (b - a) x (c - a): twice the area times the unit normal.
+  GVec3<T> scaled_normal() const noexcept { return (b - a).cross(c - a); }
+  T area() const noexcept { return half<T>() * scaled_normal().length(); }
+  GAabb3<T> local_aabb() const noexcept { return {a.min(b).min(c), a.max(b).max(c)}; }
+  GAabb3<T> aabb(GIso3<T> const& pose) const noexcept {
+    return GTriangle{pose.transform_point(a), pose.transform_point(b), pose.transform_point(c)}
+        .local_aabb();
+  }
+  /// The vertex farthest along dir (the first of a, b, c on ties).
+  GVec3<T> support(GVec3<T> const& dir) const noexcept {
+    T const da = a.dot(dir), db = b.dot(dir), dc = c.dot(dir);
+    auto const pick_b = db > da;
+    T const best = plume::select(pick_b, db, da);
+    GVec3<T> const ab = GVec3<T>::select(pick_b, b, a);
+    return GVec3<T>::select(dc > best, c, ab);
+  }
+};
+
 using Sphere = GSphere<float>;
 using Capsule = GCapsule<float>;
 using Cuboid = GCuboid<float>;
 using Cylinder = GCylinder<float>;
 using HalfSpace = GHalfSpace<float>;
+using Triangle = GTriangle<float>;
 
 } // namespace plume
 
