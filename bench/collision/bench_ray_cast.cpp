@@ -4,7 +4,8 @@
 // against shape i (N = 4096; origins in [-4, 4]^3 aimed near the shape, so about half hit);
 // "one ray x N spheres": the same ray (splat) against every sphere. Shapes are given by a
 // centre (sphere, capsule, cylinder: the ray is moved into the shape frame by a subtraction),
-// a world box (AABB), or a full pose (oriented box: a quaternion rotation per ray).
+// a world box (AABB), a full pose (oriented box: a quaternion rotation per ray), or world
+// vertices (triangle: the corners of the box's axes around the centre).
 #include <plume/collision.hpp>
 
 #include <benchmark/benchmark.h>
@@ -117,6 +118,12 @@ void register_width() {
   reg("ray_oriented_box", [inf](packed<T> const& p, std::size_t i) {
     return plume::ray_cast(plume::GCuboid<T>{p.e[i]}, plume::GIso3<T>{p.q[i], p.c[i]},
                            plume::GRay3<T>{p.o[i], p.d[i]}, inf);
+  });
+  reg("ray_triangle", [inf](packed<T> const& p, std::size_t i) {
+    T const z = plume::zero<T>();
+    plume::GTriangle<T> const tri{p.c[i] + V{p.e[i].x, z, z}, p.c[i] + V{z, p.e[i].y, z},
+                                  p.c[i] + V{z, z, p.e[i].z}};
+    return plume::ray_cast_local(tri, plume::GRay3<T>{p.o[i], p.d[i]}, inf);
   });
   benchmark::RegisterBenchmark(("one_ray_spheres" + w).c_str(), [](benchmark::State& st) {
     packed<T> const p;

@@ -344,7 +344,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
   // when d[kz] < 0 so the winding is kept.
   T const ax = plume::abs(d.x), ay = plume::abs(d.y), az = plume::abs(d.z);
   M const kz_x = (ax >= ay) & (ax >= az);
-  M const kz_y = !kz_x & (ay >= az);
+  M const kz_y = (ay >= az) & (!kz_x);
   auto const pz = [&](V const& p) {
     return plume::select(kz_x, p.x, plume::select(kz_y, p.y, p.z));
   };
