@@ -2,7 +2,7 @@
 // cases, the robust sphere discriminant on far spheres, and lane-exactness of every shape.
 #include "../math/math_support.hpp"
 
-#include <plume/collision.hpp>
+#include <plume/collision/ray_cast.hpp>
 
 #include <cmath>
 #include <limits>

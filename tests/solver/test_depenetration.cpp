@@ -3,6 +3,9 @@
 // planes, the rejection and bad-input rules, and lane-exactness of the wide forms.
 #include "solver_support.hpp"
 
+#include <plume/solver/depenetration.hpp>
+#include <plume/solver/plane_set.hpp>
+
 #include <array>
 #include <limits>
 
@@ -175,7 +178,7 @@ TEST_CASE("plane set: merging, rejection, capacity", "[solver][planes]") {
       float const a = 0.0004f * float(i); // 200 normals within 4.6 degrees
       set.add({-std::cos(a), std::sin(a), 0});
     }
-    CHECK(set.count() <= 2);
+    CHECK(set.count() == 1); // all within 5 degrees of the first, the one most against v
     auto const r = project_velocity(v, set.normals());
     CHECK(r.converged);
     for (auto const& n : set.normals())

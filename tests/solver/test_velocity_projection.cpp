@@ -3,6 +3,8 @@
 // input, and lane-exactness of the wide forms.
 #include "solver_support.hpp"
 
+#include <plume/solver/velocity_projection.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cstdio>
@@ -133,8 +135,10 @@ void check_optimality(std::size_t k, int trials, std::uint64_t seed) {
   rng r(seed);
   VelocityProjectionConfig<S> cfg;
   cfg.epsilon = sizeof(S) == 4 ? S(1e-4) : S(1e-9);
-  double const tol = sizeof(S) == 4 ? 2e-5 : 1e-12; // rounding of the arithmetic, |v| <= 4
   int zero_answers = 0;
+  struct {
+    double slack = 0, recon = 0, orth = 0, oracle = 0;
+  } worst;
   for (int t = 0; t < trials; ++t) {
     DVec3 const vd = r.unit3<double>() * r.uniform(0.5, 4);
     auto const nd = random_planes(r, vd, k);
@@ -146,6 +150,9 @@ void check_optimality(std::size_t k, int trials, std::uint64_t seed) {
     auto const res = project_velocity<S>(v, n, lambda, cfg);
     GVec3<S> const u = res.velocity;
     INFO("trial " << t << ", k = " << k << ", v = " << v << ", u = " << u);
+    // Rounding bounds in units of the element type's epsilon times |v|; the worst values
+    // seen are printed at the end (each bound is several times above them).
+    double const ev = eps_v<S> * vd.length();
     REQUIRE(res.converged);
     // Primal feasibility and the multipliers: lambda >= 0, u = v + N lambda,
     // lambda_i (n_i . u) = 0, hence u . (u - v) = 0.
@@ -153,11 +160,16 @@ void check_optimality(std::size_t k, int trials, std::uint64_t seed) {
     for (std::size_t i = 0; i < k; ++i) {
       REQUIRE(n[i].dot(u) >= -cfg.epsilon);
       REQUIRE(lambda[i] >= 0);
-      if (lambda[i] > 0) REQUIRE(std::abs(double(n[i].dot(u))) <= tol * 4);
+      if (lambda[i] > 0) {
+        worst.slack = std::max(worst.slack, std::abs(double(n[i].dot(u))));
+        REQUIRE(std::abs(double(n[i].dot(u))) <= 32 * ev);
+      }
       recon = recon + to<double>(n[i]) * double(lambda[i]);
     }
-    REQUIRE((recon - to<double>(u)).length() <= tol * 4 * (1 + double(res.steps)));
-    REQUIRE(std::abs(double(u.dot(u - v))) <= tol * 16);
+    worst.recon = std::max(worst.recon, (recon - to<double>(u)).length());
+    worst.orth = std::max(worst.orth, std::abs(double(u.dot(u - v))));
+    REQUIRE((recon - to<double>(u)).length() <= 256 * ev);
+    REQUIRE(std::abs(double(u.dot(u - v))) <= 32 * ev * vd.length());
     // The oracle: the exact projection in double from an independent enumeration.
     Eigen::Vector3d const ve(vd.x, vd.y, vd.z);
     std::vector<Eigen::Vector3d> ne;
@@ -168,12 +180,17 @@ void check_optimality(std::size_t k, int trials, std::uint64_t seed) {
     DVec3 const ustar{star.x(), star.y(), star.z()};
     REQUIRE((to<double>(u) - to<double>(v)).length() <=
             (ustar - to<double>(v)).length() + double(cfg.epsilon));
-    // With planes at least 10 degrees apart the answer itself is well conditioned.
-    REQUIRE((to<double>(u) - ustar).length() <= 200 * double(cfg.epsilon) + 1e3 * tol);
+    // With planes at least 10 degrees apart the answer is well conditioned: a plane ignored
+    // for being violated by less than epsilon moves u by at most epsilon / sin(10 deg).
+    worst.oracle = std::max(worst.oracle, (to<double>(u) - ustar).length());
+    REQUIRE((to<double>(u) - ustar).length() <= 6 * double(cfg.epsilon) + 64 * ev);
     if (ustar.length() == 0) ++zero_answers;
     (void)ve;
   }
   if (k >= 4) CHECK(zero_answers > 0); // the sets do surround v sometimes
+  std::printf("optimality %s k=%zu: slack %.3g recon %.3g orth %.3g |u-exact| %.3g\n",
+              sizeof(S) == 4 ? "f32" : "f64", k, worst.slack, worst.recon, worst.orth,
+              worst.oracle);
 }
 
 } // namespace
@@ -208,7 +225,7 @@ TEST_CASE("2D optimality against the QP oracle", "[solver][projection][2d]") {
     Eigen::Vector2d const star = qp_oracle<2>(Eigen::Vector2d(v.x, v.y), ne);
     INFO("trial " << t << ", v = " << v << ", u = " << res.velocity);
     REQUIRE(res.converged);
-    CHECK((res.velocity - DVec2{star.x(), star.y()}).length() <= 1e-9 * 200);
+    CHECK((res.velocity - DVec2{star.x(), star.y()}).length() <= 6 * cfg.epsilon);
     DVec2 recon = v;
     for (std::size_t i = 0; i < k; ++i) {
       REQUIRE(lambda[i] >= 0);
