@@ -9,13 +9,24 @@
 //   GHalfSpace<T>  the solid side n . p <= 0 of the plane through the local origin (n unit,
 //                  pointing out of the solid)
 //   GTriangle<T>   vertices a, b, c (no interior: a surface)
+//   GSegment<T>    the points between a and b (no interior: a line)
 //
 // Each shape has volume(), local_aabb() and aabb(pose) (a half-space's box is infinite), and
 // support(dir): the point of the shape farthest along dir (dir need not be unit; a zero dir
 // gives a point of the shape). Degenerate sizes (radius 0, zero extents) are valid shapes:
 // a point, a segment, a flat box.
+//
+// Rounded form, used by the GJK family (collision/gjk.hpp): every bounded shape is a core
+// swept by a ball, shape = core (+) ball(core_radius()); core_support(dir) is the core's
+// support point. Spheres are a point core, capsules a segment core; the other shapes are
+// their own core with radius 0. support(dir) = core_support(dir) + core_radius() dir/|dir|.
+//
+// mass_properties(density) (collision/mass_properties.hpp): mass = density * volume, the
+// centre of mass and the inertia tensor about that centre, in the shape's frame (units:
+// density in mass per length^3). Surfaces and lines (triangle, segment) have mass 0.
 #pragma once
 
+#include <plume/collision/mass_properties.hpp>
 #include <plume/math/aabb3.hpp>
 #include <plume/math/iso3.hpp>
 #include <plume/math/vec3.hpp>
@@ -57,6 +68,14 @@ struct GSphere {
   }
   /// radius * dir / |dir| (the centre for a zero dir).
   GVec3<T> support(GVec3<T> const& dir) const noexcept { return dir.normalize_or_zero() * radius; }
+  /// The core is the centre.
+  GVec3<T> core_support(GVec3<T> const&) const noexcept { return {}; }
+  T core_radius() const noexcept { return radius; }
+  /// I = 2/5 m r^2 on every axis.
+  GMassProperties<T> mass_properties(T density) const noexcept {
+    T const m = density * volume();
+    return GMassProperties<T>::centred(m, GVec3<T>::splat(splat<T>(0.4) * m * (radius * radius)));
+  }
 };
 
 template <Real T>
@@ -82,6 +101,23 @@ struct GCapsule {
     T const y = plume::select(dir.y < zero<T>(), -half_height, half_height);
     return GVec3<T>{zero<T>(), y, zero<T>()} + dir.normalize_or_zero() * radius;
   }
+  /// The core is the segment (0, -h, 0) .. (0, h, 0).
+  GVec3<T> core_support(GVec3<T> const& dir) const noexcept {
+    return {zero<T>(), plume::select(dir.y < zero<T>(), -half_height, half_height), zero<T>()};
+  }
+  T core_radius() const noexcept { return radius; }
+  /// A cylinder of mass mc and two hemispheres of total mass ms: I_yy = mc r^2/2 + 2/5 ms r^2,
+  /// I_xx = I_zz = mc (r^2/4 + h^2/3) + ms (2/5 r^2 + h^2 + 3/4 h r) (each hemisphere's
+  /// centre of mass is 3r/8 beyond the end of the segment).
+  GMassProperties<T> mass_properties(T density) const noexcept {
+    T const r2 = radius * radius, h = half_height;
+    T const mc = density * (pi<T>() * r2 * (two<T>() * h));
+    T const ms = density * (splat<T>(4.0 / 3.0) * pi<T>() * (r2 * radius));
+    T const iy = mc * r2 * half<T>() + splat<T>(0.4) * ms * r2;
+    T const ix = mc * (splat<T>(0.25) * r2 + h * h * splat<T>(1.0 / 3.0)) +
+                 ms * (splat<T>(0.4) * r2 + h * h + splat<T>(0.75) * h * radius);
+    return GMassProperties<T>::centred(mc + ms, GVec3<T>{ix, iy, ix});
+  }
 };
 
 template <Real T>
@@ -101,6 +137,16 @@ struct GCuboid {
     return {plume::select(dir.x < z, -half_extents.x, half_extents.x),
             plume::select(dir.y < z, -half_extents.y, half_extents.y),
             plume::select(dir.z < z, -half_extents.z, half_extents.z)};
+  }
+  GVec3<T> core_support(GVec3<T> const& dir) const noexcept { return support(dir); }
+  T core_radius() const noexcept { return zero<T>(); }
+  /// I_xx = m (e_y^2 + e_z^2) / 3 and its cyclic counterparts (e: half extents).
+  GMassProperties<T> mass_properties(T density) const noexcept {
+    T const m = density * volume();
+    GVec3<T> const e2 = half_extents * half_extents;
+    T const k = m * splat<T>(1.0 / 3.0);
+    return GMassProperties<T>::centred(
+        m, GVec3<T>{k * (e2.y + e2.z), k * (e2.x + e2.z), k * (e2.x + e2.y)});
   }
 };
 
@@ -130,6 +176,15 @@ struct GCylinder {
     T const xz2 = dir.x * dir.x + dir.z * dir.z;
     T const s = plume::select(xz2 > zero<T>(), radius / plume::sqrt(xz2), zero<T>());
     return {dir.x * s, plume::select(dir.y < zero<T>(), -half_height, half_height), dir.z * s};
+  }
+  GVec3<T> core_support(GVec3<T> const& dir) const noexcept { return support(dir); }
+  T core_radius() const noexcept { return zero<T>(); }
+  /// I_yy = m r^2 / 2, I_xx = I_zz = m (r^2/4 + h^2/3) (h: half height).
+  GMassProperties<T> mass_properties(T density) const noexcept {
+    T const m = density * volume();
+    T const r2 = radius * radius;
+    T const ix = m * (splat<T>(0.25) * r2 + half_height * half_height * splat<T>(1.0 / 3.0));
+    return GMassProperties<T>::centred(m, GVec3<T>{ix, m * r2 * half<T>(), ix});
   }
 };
 
@@ -165,6 +220,34 @@ struct GTriangle {
     GVec3<T> const ab = GVec3<T>::select(pick_b, b, a);
     return GVec3<T>::select(dc > best, c, ab);
   }
+  GVec3<T> core_support(GVec3<T> const& dir) const noexcept { return support(dir); }
+  T core_radius() const noexcept { return zero<T>(); }
+  /// A surface has no mass: mass 0, centre at the centroid, zero inertia.
+  GMassProperties<T> mass_properties(T) const noexcept {
+    return {zero<T>(), (a + b + c) * splat<T>(1.0 / 3.0), GMat3<T>::ZERO};
+  }
+};
+
+/// The segment from a to b. a == b (a point) is valid.
+template <Real T>
+struct GSegment {
+  GVec3<T> a, b;
+
+  T length() const noexcept { return (b - a).length(); }
+  GAabb3<T> local_aabb() const noexcept { return {a.min(b), a.max(b)}; }
+  GAabb3<T> aabb(GIso3<T> const& pose) const noexcept {
+    return GSegment{pose.transform_point(a), pose.transform_point(b)}.local_aabb();
+  }
+  /// The end farther along dir (a on ties).
+  GVec3<T> support(GVec3<T> const& dir) const noexcept {
+    return GVec3<T>::select(b.dot(dir) > a.dot(dir), b, a);
+  }
+  GVec3<T> core_support(GVec3<T> const& dir) const noexcept { return support(dir); }
+  T core_radius() const noexcept { return zero<T>(); }
+  /// A line has no mass: mass 0, centre at the midpoint, zero inertia.
+  GMassProperties<T> mass_properties(T) const noexcept {
+    return {zero<T>(), (a + b) * half<T>(), GMat3<T>::ZERO};
+  }
 };
 
 using Sphere = GSphere<float>;
@@ -173,6 +256,7 @@ using Cuboid = GCuboid<float>;
 using Cylinder = GCylinder<float>;
 using HalfSpace = GHalfSpace<float>;
 using Triangle = GTriangle<float>;
+using Segment = GSegment<float>;
 
 } // namespace plume
 

@@ -1,0 +1,218 @@
+// plume/collision/convex_hull.hpp - convex polytopes: the wide vertex view GConvexPolytope<T>
+// that the GJK family casts against, and GConvexHull<S>, built from a point cloud by
+// quickhull, with polygon faces, edges and face adjacency (what contact manifolds clip with).
+//
+//   auto built = ConvexHull::build(points);        // HullBuild<float>
+//   if (!built) std::puts(to_string(built.error));  // too few / coincident / collinear / ...
+//   ConvexHull const& hull = built.hull;
+//
+// Build conventions (Barber, Dobkin, Huhdanpaa 1996; computed in double whatever S is):
+//  - tolerance: a point within `tolerance` of a face plane is on that face, not outside it.
+//    The default is 16 eps(S) times the sum of the largest |coordinate| on each axis, so
+//    duplicates, coplanar and nearly coplanar points (noise below the tolerance) add no
+//    vertices and no sliver faces.
+//  - Coplanar triangles are merged into polygon faces; a vertex that lies only on a straight
+//    edge between two faces is dropped. Every face is a convex polygon, counter-clockwise seen
+//    from outside, with a unit outward normal and offset (normal . p = offset on the face).
+//  - Errors (the hull is then empty): fewer than 4 points, a non-finite coordinate, all
+//    points within the tolerance of one point, of one line, or of one plane.
+#pragma once
+
+#include <plume/collision/mass_properties.hpp>
+#include <plume/collision/shapes.hpp>
+#include <plume/math/aabb3.hpp>
+#include <plume/math/iso3.hpp>
+#include <plume/math/pack.hpp>
+#include <plume/math/vec3.hpp>
+#include <plume/numerics.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <vector>
+
+PLUME_MASK_CODE_BEGIN
+
+namespace plume {
+
+/// A convex polytope given by its vertices (the convex hull of `points`), generic over T:
+/// with a wide T lane i is a different polytope, all with the same vertex count (repeat a
+/// vertex to pad a shorter one). A view: the points must outlive it. Empty views have no
+/// support point (support returns zero).
+template <Real T>
+struct GConvexPolytope {
+  std::span<GVec3<T> const> points;
+
+  /// The vertex farthest along dir (the first one on ties).
+  GVec3<T> support(GVec3<T> const& dir) const noexcept {
+    if (points.empty()) return {};
+    GVec3<T> best = points[0];
+    T best_d = best.dot(dir);
+    for (std::size_t i = 1; i < points.size(); ++i) {
+      T const d = points[i].dot(dir);
+      mask_t<T> const better = d > best_d;
+      best_d = plume::select(better, d, best_d);
+      best = GVec3<T>::select(better, points[i], best);
+    }
+    return best;
+  }
+  GVec3<T> core_support(GVec3<T> const& dir) const noexcept { return support(dir); }
+  T core_radius() const noexcept { return zero<T>(); }
+  GAabb3<T> local_aabb() const noexcept {
+    if (points.empty()) return {};
+    GAabb3<T> box{points[0], points[0]};
+    for (auto const& p : points)
+      box = {box.min.min(p), box.max.max(p)};
+    return box;
+  }
+  GAabb3<T> aabb(GIso3<T> const& pose) const noexcept {
+    if (points.empty()) return {};
+    GVec3<T> const p0 = pose.transform_point(points[0]);
+    GAabb3<T> box{p0, p0};
+    for (auto const& p : points) {
+      GVec3<T> const w = pose.transform_point(p);
+      box = {box.min.min(w), box.max.max(w)};
+    }
+    return box;
+  }
+};
+
+enum class HullError : std::uint8_t {
+  none,
+  too_few_points, ///< fewer than 4 points
+  non_finite,     ///< a NaN or infinite coordinate
+  coincident,     ///< every point within the tolerance of one point
+  collinear,      ///< every point within the tolerance of one line
+  coplanar,       ///< every point within the tolerance of one plane: no volume
+};
+
+constexpr char const* to_string(HullError e) noexcept {
+  switch (e) {
+  case HullError::none:
+    return "none";
+  case HullError::too_few_points:
+    return "convex hull: fewer than 4 points";
+  case HullError::non_finite:
+    return "convex hull: a point has a NaN or infinite coordinate";
+  case HullError::coincident:
+    return "convex hull: all points coincide";
+  case HullError::collinear:
+    return "convex hull: all points lie on one line";
+  case HullError::coplanar:
+    return "convex hull: all points lie in one plane (no volume)";
+  }
+  return "convex hull: unknown error";
+}
+
+/// A polygon face of a hull: vertex indices face_vertices[first .. first + count).
+template <ScalarReal S>
+struct HullFace {
+  GVec3<S> normal; ///< unit, outward
+  S offset;        ///< normal . p = offset for p on the face
+  std::uint32_t first, count;
+};
+
+/// An edge between two faces: a -> b runs counter-clockwise around `left` (and b -> a
+/// around `right`).
+struct HullEdge {
+  std::uint32_t a, b, left, right;
+};
+
+template <ScalarReal S>
+struct HullBuild;
+
+/// A convex hull: vertices, polygon faces with adjacency, edges. Scalar (float or double);
+/// polytope() gives the vertex view the GJK family uses; pack_polytopes<T> interleaves the
+/// vertices of several hulls into the storage of one wide GConvexPolytope<T>.
+template <ScalarReal S>
+class GConvexHull {
+public:
+  using Vec = GVec3<S>;
+
+  /// Quickhull over points (see the conventions at the top); tolerance <= 0 picks the default.
+  static HullBuild<S> build(std::span<Vec const> points, S tolerance = S(0));
+
+  std::span<Vec const> vertices() const noexcept { return vertices_; }
+  std::span<HullFace<S> const> faces() const noexcept { return faces_; }
+  std::span<HullEdge const> edges() const noexcept { return edges_; }
+  /// The vertex indices of face f, counter-clockwise seen from outside.
+  std::span<std::uint32_t const> face_vertices(std::size_t f) const noexcept {
+    return std::span<std::uint32_t const>(face_vertices_).subspan(faces_[f].first, faces_[f].count);
+  }
+  /// neighbors(f)[i]: the face across the edge face_vertices(f)[i] -> [i + 1].
+  std::span<std::uint32_t const> face_neighbors(std::size_t f) const noexcept {
+    return std::span<std::uint32_t const>(face_neighbors_)
+        .subspan(faces_[f].first, faces_[f].count);
+  }
+  /// The tolerance the hull was built with.
+  S tolerance() const noexcept { return tolerance_; }
+  bool empty() const noexcept { return vertices_.empty(); }
+
+  GConvexPolytope<S> polytope() const noexcept { return {vertices_}; }
+  Vec support(Vec const& dir) const noexcept { return polytope().support(dir); }
+  Vec core_support(Vec const& dir) const noexcept { return support(dir); }
+  S core_radius() const noexcept { return S(0); }
+  GAabb3<S> local_aabb() const noexcept { return polytope().local_aabb(); }
+  GAabb3<S> aabb(GIso3<S> const& pose) const noexcept { return polytope().aabb(pose); }
+
+  /// The face whose outward normal is most aligned with dir (the first on ties).
+  std::size_t support_face(Vec const& dir) const noexcept {
+    std::size_t best = 0;
+    for (std::size_t f = 1; f < faces_.size(); ++f)
+      if (faces_[f].normal.dot(dir) > faces_[best].normal.dot(dir)) best = f;
+    return best;
+  }
+
+  /// Volume and mass properties, from the faces split into tetrahedra with the vertex
+  /// centroid (exact for the polytope, up to rounding).
+  S volume() const noexcept { return mass_properties(S(1)).mass; }
+  GMassProperties<S> mass_properties(S density) const noexcept;
+
+private:
+  std::vector<Vec> vertices_;
+  std::vector<HullFace<S>> faces_;
+  std::vector<std::uint32_t> face_vertices_, face_neighbors_;
+  std::vector<HullEdge> edges_;
+  S tolerance_ = S(0);
+
+  friend struct detail_hull_builder;
+};
+
+template <ScalarReal S>
+struct HullBuild {
+  GConvexHull<S> hull;
+  HullError error = HullError::none;
+  explicit operator bool() const noexcept { return error == HullError::none; }
+};
+
+using ConvexHull = GConvexHull<float>;
+using DConvexHull = GConvexHull<double>;
+using ConvexPolytope = GConvexPolytope<float>;
+
+/// The vertices of lanes_v<T> polytopes (one per lane) interleaved for a wide
+/// GConvexPolytope<T>: entry i holds vertex i of every lane; a lane with fewer vertices repeats
+/// its last one (which changes no support point). Empty input lanes give zero points.
+template <Real T>
+std::vector<GVec3<T>> pack_polytopes(std::span<std::span<GVec3<scalar_t<T>> const> const> lanes) {
+  std::size_t n = 0;
+  for (auto const& l : lanes)
+    n = l.size() > n ? l.size() : n;
+  std::vector<GVec3<T>> out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::array<GVec3<scalar_t<T>>, lanes_v<T>> row{};
+    for (std::size_t k = 0; k < lanes_v<T> && k < lanes.size(); ++k) {
+      auto const& l = lanes[k];
+      if (!l.empty()) row[k] = l[i < l.size() ? i : l.size() - 1];
+    }
+    out[i] = pack<T>(row.data(), lanes_v<T>);
+  }
+  return out;
+}
+
+} // namespace plume
+
+#include <plume/collision/detail/quickhull.hpp>
+
+PLUME_MASK_CODE_END

@@ -1,0 +1,448 @@
+// plume/collision/gjk.hpp - the GJK family over any two convex shapes, generic over T: with a
+// wide T every lane runs its own query (its own shapes, poses and motion), all lanes iterate
+// until each has finished, and a finished lane is frozen by masks, so lane i equals the
+// scalar query on lane i's inputs bit for bit.
+//
+//   closest_points(a, pose_a, b, pose_b [, cfg, axis])  distance, closest points, normal
+//   shape_cast(a, pose_a, motion_a, b, pose_b, cfg)      first time A, moving by t motion_a,
+//                                                        comes within target_distance of B
+//   ray_cast_gjk(shape, pose, ray, max_toi, solid)       ray cast against any convex shape
+//
+// Shapes: anything with core_support(dir) and core_radius() (collision/shapes.hpp: sphere,
+// capsule, cuboid, cylinder, triangle, segment; collision/convex_hull.hpp: polytopes and
+// hulls). GJK runs on the cores and adds the radii afterwards, so spheres and capsules are
+// exact (a point and a segment) and a rounded shape never slows convergence.
+//
+// Algorithms: closest points by GJK (Gilbert, Johnson, Keerthi 1988) with the relative stop
+// of van den Bergen (|v|^2 - v.w small); casts by the GJK ray cast (van den Bergen 2004): the
+// ray point x advances to the support plane of the set swept (D = B - A, inflated by the radii
+// and the target distance) whenever it is outside it, so x never enters D and the time of
+// impact is never late. Stop rules are absolute (`tolerance`, in length units) rather than
+// relative to the size of the shapes, so large shapes are as accurate as small ones (a
+// relative stop is what makes some engines' casts millimetres short on 500 m boxes).
+//
+// Bad input: a non-finite pose, motion, ray or shape parameter gives `failed` in that lane
+// (NaN results, no hit), other lanes untouched. Every query stops after max_iterations and
+// says so. Cores that overlap (penetration deeper than the radii) are reported as overlap /
+// penetrating with a zero normal: their depth and normal need EPA.
+#pragma once
+
+#include <plume/collision/detail/simplex.hpp>
+#include <plume/collision/ray_cast.hpp>
+#include <plume/collision/shapes.hpp>
+#include <plume/math/iso3.hpp>
+#include <plume/math/vec3.hpp>
+#include <plume/numerics.hpp>
+
+#include <concepts>
+
+PLUME_MASK_CODE_BEGIN
+
+namespace plume {
+
+/// A convex shape the GJK family can query: a core with a support function and a radius.
+template <class Shape, class T>
+concept ConvexShape = Real<T> && requires(Shape const& s, GVec3<T> const& d) {
+  { s.core_support(d) } -> std::convertible_to<GVec3<T>>;
+  { s.core_radius() } -> std::convertible_to<T>;
+};
+
+struct GjkConfig {
+  int max_iterations = 64;
+  /// Absolute accuracy of distances and of a cast's contact point, in length units. Where
+  /// the coordinates are so large that float cannot resolve it (16 eps |coordinates| above
+  /// it: beyond about 5 m for the default), the rounding floor takes its place.
+  float tolerance = 1e-5f;
+  /// Closest points also stop when the distance is known to this relative accuracy.
+  float relative_tolerance = 1e-6f;
+
+  GjkConfig scaled(float length_unit) const noexcept {
+    GjkConfig c = *this;
+    c.tolerance *= length_unit;
+    return c;
+  }
+};
+
+/// Result of closest_points, per lane.
+template <Real T>
+struct GClosestPoints {
+  /// Between the (rounded) shapes: positive apart, negative when only the radii overlap (then
+  /// exactly minus the depth); 0 when the cores overlap (see overlap). NaN when failed.
+  T distance;
+  GVec3<T> point_a; ///< world, on A's surface (inside B when distance < 0)
+  GVec3<T> point_b; ///< world, on B's surface
+  GVec3<T> normal;  ///< unit, from A toward B; zero when the cores overlap
+  /// The last search direction: pass it as `axis` to the next query on the same pair (warm
+  /// start: a pair that moved a little converges in one or two iterations).
+  GVec3<T> axis;
+  mask_t<T> overlap;   ///< the cores intersect
+  mask_t<T> converged; ///< false: stopped by max_iterations (or failed)
+  mask_t<T> failed;    ///< non-finite input
+  T iterations;
+};
+
+/// The contact of a shape cast, per lane. Exactly one of converged / penetrating /
+/// out_of_iterations / failed holds in each lane.
+template <Real T>
+struct GShapeCastHit {
+  mask_t<T> hit;
+  T toi; ///< time of impact in units of motion (0 when starting in contact); +inf on a miss
+  GVec3<T> normal;     ///< unit, from A toward B at the contact; zero on a miss or deep penetration
+  GVec3<T> point_a;    ///< world, on A at toi (A moved by toi * motion)
+  GVec3<T> point_b;    ///< world, on B
+  mask_t<T> converged; ///< a normal answer (hit or miss)
+  mask_t<T>
+      penetrating; ///< started within target_distance (toi 0); normal zero if the cores overlap
+  mask_t<T> out_of_iterations; ///< toi is a lower bound (conservative)
+  mask_t<T> failed;            ///< non-finite input: no hit
+  T iterations;
+};
+
+struct ShapeCastConfig {
+  float max_toi = 1.0f;         ///< in units of motion
+  float target_distance = 0.0f; ///< report contact at this gap (a skin), length units
+  /// A cast that starts within target_distance: true reports it (toi 0); false ignores it
+  /// when the motion separates the shapes (moving out along the contact normal).
+  bool stop_at_penetration = true;
+  GjkConfig gjk{};
+};
+
+namespace detail {
+
+/// A shape placed by a pose: world core support points.
+template <class Shape, Real T>
+struct placed {
+  Shape const& shape;
+  GIso3<T> const& pose;
+  PLUME_INLINE GVec3<T> support(GVec3<T> const& d) const noexcept {
+    return pose.transform_point(shape.core_support(pose.inverse_transform_vector(d)));
+  }
+};
+
+template <Real T>
+PLUME_INLINE mask_t<T> finite3(GVec3<T> const& v) noexcept {
+  return (plume::is_finite(v.x) & plume::is_finite(v.y)) & plume::is_finite(v.z);
+}
+
+/// The vertex of D = B - A along d: p = sB(d) - sA(-d).
+template <class SA, class SB, Real T>
+PLUME_INLINE simplex_vertex<T> minkowski_vertex(SA const& sa, SB const& sb,
+                                                GVec3<T> const& d) noexcept {
+  GVec3<T> const a = sa.support(-d);
+  GVec3<T> const b = sb.support(d);
+  return {b - a, a, b};
+}
+
+/// A support "shape" that is the origin (a ray cast has no A).
+template <Real T>
+struct origin_support {
+  PLUME_INLINE GVec3<T> support(GVec3<T> const&) const noexcept { return {}; }
+};
+
+/// The GJK ray cast of x(t) = origin + t r against D (given by sa, sb) inflated by radius,
+/// t in [0, max_toi]. n: the last separating direction (outward from D at the hit).
+template <Real T>
+struct cast_state {
+  mask_t<T> hit, started_inside, cores_overlap, out_of_iterations, failed;
+  T toi;
+  GVec3<T> n;
+  GVec3<T> pa, pb; ///< closest points on the cores (A at its start pose)
+  T iterations;
+};
+
+template <class SA, class SB, Real T>
+PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& origin,
+                                    GVec3<T> const& r, T max_toi, T radius, GVec3<T> v0,
+                                    mask_t<T> bad_input, GjkConfig const& cfg) noexcept {
+  using S = scalar_t<T>;
+  T const z = zero<T>();
+  T const tol = splat<T>(S(cfg.tolerance));
+  T const floor_k = splat<T>(S(16)) * epsilon<T>();
+
+  cast_state<T> out;
+  out.hit = mask_t<T>(false);
+  out.started_inside = mask_t<T>(false);
+  out.cores_overlap = mask_t<T>(false);
+  out.out_of_iterations = mask_t<T>(false);
+  out.failed = bad_input;
+  out.toi = z;
+  out.n = GVec3<T>{};
+  out.pa = GVec3<T>{};
+  out.pb = GVec3<T>{};
+  out.iterations = z;
+
+  simplex<T> s;
+  GVec3<T> x = origin;
+  GVec3<T> v = GVec3<T>::select(v0.dot(v0) > z, v0, -r);
+  v = GVec3<T>::select(v.dot(v) > z, v, GVec3<T>::X);
+  T d2_ref = infinity<T>(); // |v|^2 of the simplex at the current x (+inf: none yet)
+  mask_t<T> active = !bad_input;
+  mask_t<T> advanced_ever = mask_t<T>(false);
+
+  for (int it = 0; it < cfg.max_iterations; ++it) {
+    if (plume::none(active)) break;
+    out.iterations = plume::select(active, out.iterations + one<T>(), out.iterations);
+    simplex_vertex<T> const w = minkowski_vertex(sa, sb, v);
+    mask_t<T> const finite_step = finite3(w.p) & finite3(v);
+    mask_t<T> const bad = !finite_step;
+    GVec3<T> const y = x - w.p;
+    T const vl = plume::sqrt(v.dot(v));
+    T const vy = v.dot(y);
+    T const vr = v.dot(r);
+    mask_t<T> const outside = vy > radius * vl;
+    mask_t<T> const receding = outside & (vr >= z);
+    T const t_new = out.toi - (vy - radius * vl) / plume::select(outside & (vr < z), vr, -one<T>());
+    mask_t<T> const too_far = outside & (!receding) & (t_new > max_toi);
+    mask_t<T> const miss = active & (receding | too_far) & (!bad);
+    mask_t<T> const advance = active & outside & (!receding) & (!too_far) & (!bad);
+    // Advance: x moves to the (inflated) support plane; the simplex points stay (they are
+    // points of D), only their offsets from x change.
+    out.toi = plume::select(advance, t_new, out.toi);
+    x = GVec3<T>::select(advance, origin + r * out.toi, x);
+    out.n = GVec3<T>::select(advance, v, out.n);
+    d2_ref = plume::select(advance, infinity<T>(), d2_ref);
+    advanced_ever = advanced_ever | advance;
+
+    simplex_step<T> const step = closest_on_simplex(s, w, x);
+    T const nd2 = step.v.dot(step.v);
+    mask_t<T> const live = active & (!miss) & (!bad);
+    // Close enough: within tolerance of the inflated set, or of its rounding floor (16 eps of
+    // the coordinates in play) where float cannot resolve the tolerance.
+    T const floor = floor_k * plume::sqrt(x.dot(x) + w.p.dot(w.p));
+    T const reach = radius + plume::max(tol, floor);
+    mask_t<T> const close = (nd2 <= reach * reach) | step.inside;
+    mask_t<T> const stalled = (!advance) & (nd2 >= d2_ref);
+    mask_t<T> const done_hit = live & (close | stalled);
+    // Record the step where it is taken (or where it ends in a hit on a new simplex).
+    mask_t<T> const take = live & (!stalled);
+    auto const [pa, pb] = closest_points(s, w, step.lambda);
+    out.pa = GVec3<T>::select(take, pa, out.pa);
+    out.pb = GVec3<T>::select(take, pb, out.pb);
+    s.v[0] = simplex_vertex<T>{GVec3<T>::select(take, step.next.v[0].p, s.v[0].p),
+                               GVec3<T>::select(take, step.next.v[0].a, s.v[0].a),
+                               GVec3<T>::select(take, step.next.v[0].b, s.v[0].b)};
+    for (std::size_t k = 1; k < 3; ++k) {
+      s.v[k] = simplex_vertex<T>{GVec3<T>::select(take, step.next.v[k].p, s.v[k].p),
+                                 GVec3<T>::select(take, step.next.v[k].a, s.v[k].a),
+                                 GVec3<T>::select(take, step.next.v[k].b, s.v[k].b)};
+    }
+    for (std::size_t k = 0; k < 3; ++k)
+      s.present[k] = plume::select(take, step.next.present[k], s.present[k]);
+    // x inside the simplex before any advance: the cores overlap at the start (after an
+    // advance, x "inside" only means it sits on the surface, within rounding).
+    // Or x (nearly) on the simplex, where the core distance is rounding noise and gives no
+    // direction.
+    mask_t<T> const on_core =
+        nd2 <= (splat<T>(S(64)) * epsilon<T>()) * (splat<T>(S(64)) * epsilon<T>()) * y.dot(y);
+    mask_t<T> const inside_now = done_hit & (step.inside | on_core) & (!advanced_ever);
+    out.cores_overlap = out.cores_overlap | inside_now;
+    out.started_inside = out.started_inside | (done_hit & (!advanced_ever));
+    v = GVec3<T>::select(take, step.v, v);
+    d2_ref = plume::select(take, nd2, d2_ref);
+    out.failed = out.failed | (active & bad);
+    out.hit = out.hit | done_hit;
+    active = active & (!(miss | done_hit | bad));
+  }
+  out.out_of_iterations = active;
+  // An unfinished lane keeps its (conservative) toi as a hit only if it advanced.
+  out.hit = out.hit & (!out.failed);
+  return out;
+}
+
+} // namespace detail
+
+/// Distance, closest points and normal between convex shapes a (at pose_a) and b (at
+/// pose_b). `axis`: a warm-start direction (the previous result's axis); zero picks the
+/// centre difference.
+template <Real T, class A, class B>
+requires ConvexShape<A, T> && ConvexShape<B, T> GClosestPoints<T>
+closest_points(A const& a, GIso3<T> const& pose_a, B const& b, GIso3<T> const& pose_b,
+               GjkConfig const& cfg = {}, GVec3<T> const& axis = {})
+noexcept {
+  using S = scalar_t<T>;
+  T const z = zero<T>();
+  detail::placed<A, T> const sa{a, pose_a};
+  detail::placed<B, T> const sb{b, pose_b};
+  T const ra = a.core_radius(), rb = b.core_radius();
+  T const tol = splat<T>(S(cfg.tolerance));
+  T const rel = splat<T>(S(cfg.relative_tolerance));
+  T const eps = epsilon<T>();
+
+  mask_t<T> const good_input =
+      ((pose_a.is_finite() & pose_b.is_finite()) & (plume::is_finite(ra) & plume::is_finite(rb))) &
+      detail::finite3(axis);
+  mask_t<T> const bad_input = !good_input;
+  GVec3<T> v = GVec3<T>::select(axis.dot(axis) > z, axis, pose_a.translation - pose_b.translation);
+  v = GVec3<T>::select(v.dot(v) > z, v, GVec3<T>::X);
+
+  detail::simplex<T> s;
+  T d2 = infinity<T>();
+  T max_y2 = z;
+  GVec3<T> pa{}, pb{};
+  mask_t<T> active = !bad_input;
+  mask_t<T> failed = bad_input;
+  mask_t<T> overlap = mask_t<T>(false);
+  mask_t<T> done = mask_t<T>(false);
+  T iterations = z;
+
+  for (int it = 0; it < cfg.max_iterations; ++it) {
+    if (plume::none(active)) break;
+    iterations = plume::select(active, iterations + one<T>(), iterations);
+    detail::simplex_vertex<T> const w = detail::minkowski_vertex(sa, sb, v);
+    GVec3<T> const y = -w.p; // a - b
+    mask_t<T> const bad = !detail::finite3(y);
+    max_y2 = plume::select(active, plume::max(max_y2, y.dot(y)), max_y2);
+    // Stop when the lower bound v.y/|v| is within tolerance of the upper bound |v|.
+    T const vl = plume::sqrt(d2);
+    T const gap = d2 - v.dot(y);
+    mask_t<T> const has_v = d2 < infinity<T>();
+    mask_t<T> const bounded = has_v & ((gap <= tol * vl) | (gap <= rel * d2));
+
+    detail::simplex_step<T> const step = detail::closest_on_simplex(s, w, GVec3<T>{});
+    T const nd2 = step.v.dot(step.v);
+    mask_t<T> const no_progress = has_v & (nd2 >= d2);
+    mask_t<T> const touching =
+        step.inside | (nd2 <= (splat<T>(S(64)) * eps) * (splat<T>(S(64)) * eps) * max_y2);
+    mask_t<T> const ok = active & (!bad);
+    mask_t<T> const finish = ok & (bounded | no_progress);
+    mask_t<T> const take = ok & (!finish);
+    auto const [npa, npb] = detail::closest_points(s, w, step.lambda);
+    pa = GVec3<T>::select(take, npa, pa);
+    pb = GVec3<T>::select(take, npb, pb);
+    for (std::size_t k = 0; k < 3; ++k) {
+      s.v[k] = detail::simplex_vertex<T>{GVec3<T>::select(take, step.next.v[k].p, s.v[k].p),
+                                         GVec3<T>::select(take, step.next.v[k].a, s.v[k].a),
+                                         GVec3<T>::select(take, step.next.v[k].b, s.v[k].b)};
+      s.present[k] = plume::select(take, step.next.present[k], s.present[k]);
+    }
+    v = GVec3<T>::select(take, step.v, v);
+    d2 = plume::select(take, nd2, d2);
+    mask_t<T> const hit_core = take & touching;
+    overlap = overlap | hit_core;
+    failed = failed | (active & bad);
+    done = done | finish | hit_core;
+    active = active & (!(finish | hit_core | bad));
+  }
+
+  GClosestPoints<T> out;
+  T const core = plume::sqrt(d2);
+  GVec3<T> const n = -detail::unit_or_zero(v); // v = a - b points from B to A
+  mask_t<T> const apart = (!overlap) & (n.dot(n) > z);
+  out.overlap = overlap | ((!failed) & (!apart));
+  out.normal = GVec3<T>::select(out.overlap, GVec3<T>{}, n);
+  out.distance = plume::select(out.overlap, z, (core - ra) - rb);
+  out.point_a = pa + out.normal * ra;
+  out.point_b = pb - out.normal * rb;
+  out.axis = v;
+  out.converged = done & (!failed);
+  out.failed = failed;
+  T const qnan = nan<T>();
+  out.distance = plume::select(failed, qnan, out.distance);
+  out.point_a = GVec3<T>::select(failed, GVec3<T>::splat(qnan), out.point_a);
+  out.point_b = GVec3<T>::select(failed, GVec3<T>::splat(qnan), out.point_b);
+  out.normal = GVec3<T>::select(failed, GVec3<T>{}, out.normal);
+  out.iterations = iterations;
+  return out;
+}
+
+/// The first time of impact of shape a (at pose_a, moving by t * motion_a for t in
+/// [0, cfg.max_toi]; B is still: pass the relative motion) with b (at pose_b): the smallest t
+/// where their distance is at most cfg.target_distance.
+template <Real T, class A, class B>
+requires ConvexShape<A, T> && ConvexShape<B, T> GShapeCastHit<T>
+shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const& b,
+           GIso3<T> const& pose_b, ShapeCastConfig const& cfg = {})
+noexcept {
+  using S = scalar_t<T>;
+  T const z = zero<T>();
+  detail::placed<A, T> const sa{a, pose_a};
+  detail::placed<B, T> const sb{b, pose_b};
+  T const ra = a.core_radius(), rb = b.core_radius();
+  T const radius = (ra + rb) + splat<T>(S(cfg.target_distance));
+  mask_t<T> const good_input = (pose_a.is_finite() & pose_b.is_finite()) &
+                               (detail::finite3(motion_a) & plume::is_finite(radius));
+  mask_t<T> const bad_input = !good_input;
+  // The ray t * motion_a against D = B - A, from a direction pointing from D to the origin.
+  detail::cast_state<T> const c =
+      detail::gjk_cast(sa, sb, GVec3<T>{}, motion_a, splat<T>(S(cfg.max_toi)), radius,
+                       pose_a.translation - pose_b.translation, bad_input, cfg.gjk);
+  GShapeCastHit<T> out;
+  GVec3<T> const n = -detail::unit_or_zero(c.n); // c.n points out of D = B - A: from B to A
+  // Starting within reach: the normal is the current separation direction (none if the
+  // cores overlap).
+  GVec3<T> const sep = -detail::unit_or_zero(c.pa - c.pb);
+  GVec3<T> const normal =
+      GVec3<T>::select(c.cores_overlap, GVec3<T>{}, GVec3<T>::select(c.started_inside, sep, n));
+  mask_t<T> const separating = c.started_inside & (!c.cores_overlap) & (normal.dot(motion_a) < z);
+  mask_t<T> const ignore = cfg.stop_at_penetration ? mask_t<T>(false) : separating;
+  out.hit = c.hit & (!ignore);
+  out.toi = plume::select(out.hit, c.toi, infinity<T>());
+  out.normal = GVec3<T>::select(out.hit, normal, GVec3<T>{});
+  GVec3<T> const moved = motion_a * c.toi;
+  out.point_a = GVec3<T>::select(out.hit, c.pa + moved + out.normal * ra, GVec3<T>{});
+  out.point_b = GVec3<T>::select(out.hit, c.pb - out.normal * rb, GVec3<T>{});
+  out.failed = c.failed;
+  out.penetrating = c.hit & c.started_inside & (!c.failed);
+  out.out_of_iterations = c.out_of_iterations & (!c.failed);
+  out.converged = (!out.failed) & (!out.penetrating) & (!out.out_of_iterations);
+  out.iterations = c.iterations;
+  return out;
+}
+
+/// A ray cast against any convex shape at a pose by the GJK ray cast (closed forms are in
+/// collision/ray_cast.hpp and are faster where they exist). Conventions as in ray_cast.hpp:
+/// toi in units of |dir|, outward normal, solid casts from inside hit at 0 with a zero normal,
+/// hollow casts from inside hit where the ray leaves the shape. Lanes that hit the iteration
+/// cap report their conservative toi as a hit.
+template <Real T, class Shape>
+requires ConvexShape<Shape, T> GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose,
+                                                       GRay3<T> const& ray, T max_toi,
+                                                       bool solid = true, GjkConfig const& cfg = {})
+noexcept {
+  T const z = zero<T>();
+  detail::origin_support<T> const none{};
+  detail::placed<Shape, T> const sb{shape, pose};
+  T const radius = shape.core_radius();
+  mask_t<T> const good_input = (pose.is_finite() & detail::finite3(ray.origin)) &
+                               (detail::finite3(ray.dir) & plume::is_finite(radius));
+  mask_t<T> const bad_input = (!good_input) | plume::is_nan(max_toi);
+  detail::cast_state<T> const c = detail::gjk_cast(none, sb, ray.origin, ray.dir, max_toi, radius,
+                                                   ray.origin - pose.translation, bad_input, cfg);
+  GRayHit<T> out;
+  out.hit = c.hit & (!c.failed);
+  out.toi = plume::select(out.hit, c.toi, infinity<T>());
+  out.normal =
+      GVec3<T>::select(out.hit & (!c.started_inside), detail::unit_or_zero(c.n), GVec3<T>{});
+  if (!solid) {
+    // From inside, the exit point: cast back from beyond the shape (its bounding sphere
+    // around the start point) toward the origin.
+    mask_t<T> const inside = out.hit & c.started_inside;
+    if (plume::any(inside)) {
+      GAabb3<T> const box = shape.local_aabb();
+      T const span = (box.max - box.min).length() + radius * two<T>() +
+                     (ray.origin - pose.translation).length() * two<T>();
+      T const dl = plume::sqrt(ray.dir.dot(ray.dir));
+      T const back = span / plume::select(dl > z, dl, one<T>()); // in units of dir
+      GVec3<T> const far = ray.at(back);
+      detail::cast_state<T> const e =
+          detail::gjk_cast(none, sb, far, -ray.dir, back, radius, far - pose.translation,
+                           bad_input | (!inside) | (dl == z), cfg);
+      T const exit = back - e.toi;
+      mask_t<T> const found = inside & e.hit & (!e.started_inside);
+      mask_t<T> const in_range = exit <= max_toi;
+      out.hit = (out.hit & (!inside)) | (found & in_range);
+      out.toi =
+          plume::select(inside, plume::select(found & in_range, exit, infinity<T>()), out.toi);
+      out.normal =
+          GVec3<T>::select(inside & found & in_range, detail::unit_or_zero(e.n), out.normal);
+    }
+  }
+  return out;
+}
+
+using ClosestPoints = GClosestPoints<float>;
+using ShapeCastHit = GShapeCastHit<float>;
+
+} // namespace plume
+
+PLUME_MASK_CODE_END

@@ -1,0 +1,298 @@
+// Convex hulls (quickhull) and mass properties: the hull's combinatorics (Euler's formula,
+// symmetric adjacency, convex faces), robustness to duplicate, coplanar and nearly coplanar
+// points, the build errors, and mass properties against closed forms, slice integration and
+// the parallel axis theorem.
+#include "../math/math_support.hpp"
+
+#include <plume/collision/convex_hull.hpp>
+#include <plume/collision/shapes.hpp>
+
+#include <cmath>
+#include <numbers>
+#include <set>
+#include <vector>
+
+using namespace plume;
+using namespace plume::test;
+
+namespace {
+constexpr double kpi = std::numbers::pi;
+
+std::vector<Vec3> box_points(Vec3 e) {
+  std::vector<Vec3> p;
+  for (int i = 0; i < 8; ++i)
+    p.push_back({(i & 1) ? e.x : -e.x, (i & 2) ? e.y : -e.y, (i & 4) ? e.z : -e.z});
+  return p;
+}
+
+/// Every structural property a hull must have; all input points inside or on it.
+void check_hull(ConvexHull const& h, std::span<Vec3 const> input) {
+  auto const V = h.vertices().size(), F = h.faces().size(), E = h.edges().size();
+  INFO("V " << V << " E " << E << " F " << F);
+  CHECK(V + F == E + 2); // Euler
+  std::size_t halfedges = 0;
+  for (std::size_t f = 0; f < F; ++f) {
+    auto const& face = h.faces()[f];
+    auto const fv = h.face_vertices(f);
+    auto const nb = h.face_neighbors(f);
+    REQUIRE(fv.size() >= 3);
+    halfedges += fv.size();
+    CHECK(std::abs(face.normal.length() - 1) < 1e-6f);
+    for (std::size_t i = 0; i < fv.size(); ++i) {
+      // Vertices on the face plane; the face convex and counter-clockwise seen from outside.
+      Vec3 const a = h.vertices()[fv[i]], b = h.vertices()[fv[(i + 1) % fv.size()]],
+                 c = h.vertices()[fv[(i + 2) % fv.size()]];
+      CHECK(std::abs(face.normal.dot(a) - face.offset) <= 1e-5f * (1 + a.length()));
+      CHECK((b - a).cross(c - b).dot(face.normal) > 0);
+      // Adjacency is symmetric: the neighbour has the reversed edge.
+      std::uint32_t const g = nb[i];
+      CHECK(g != f);
+      auto const gv = h.face_vertices(g);
+      bool found = false;
+      for (std::size_t k = 0; k < gv.size(); ++k)
+        found = found || (gv[k] == fv[(i + 1) % fv.size()] && gv[(k + 1) % gv.size()] == fv[i]);
+      CHECK(found);
+    }
+    for (Vec3 const& p : input)
+      CHECK(face.normal.dot(p) - face.offset <= 4 * h.tolerance() + 1e-6f);
+    for (Vec3 const& p : h.vertices())
+      CHECK(face.normal.dot(p) - face.offset <= 4 * h.tolerance() + 1e-6f);
+  }
+  CHECK(halfedges == 2 * E);
+}
+} // namespace
+
+TEST_CASE("hull of a box with duplicates, interior, face and edge points", "[collision][hull]") {
+  auto pts = box_points({1, 2, 3});
+  auto const corners = pts;
+  for (Vec3 const& c : corners) // duplicates
+    pts.push_back(c);
+  pts.push_back({0, 0, 0});        // interior
+  pts.push_back({0.5f, 0.25f, 3}); // on a face
+  pts.push_back({1, 2, 0});        // on an edge
+  pts.push_back({0, -2, -3});      // on another edge
+  rng r(3);
+  for (int k = 0; k < 50; ++k) // on the faces, within a hair (nearly coplanar)
+    pts.push_back(
+        {float(r.uniform(-1, 1)), float(r.uniform(-2, 2)), 3.0f + float(r.uniform(-1e-7, 1e-7))});
+  auto const built = ConvexHull::build(pts);
+  REQUIRE(built);
+  ConvexHull const& h = built.hull;
+  CHECK(h.vertices().size() == 8);
+  CHECK(h.faces().size() == 6);
+  CHECK(h.edges().size() == 12);
+  for (std::size_t f = 0; f < 6; ++f)
+    CHECK(h.face_vertices(f).size() == 4);
+  check_hull(h, pts);
+  CHECK(h.volume() == Approx(48).epsilon(1e-6));
+  // support_face picks the face most along a direction.
+  CHECK(h.faces()[h.support_face({0.1f, 0.2f, 1})].normal.z == Approx(1));
+}
+
+TEST_CASE("hulls of random clouds: spheres, flat noise, many points", "[collision][hull]") {
+  rng r(17);
+  for (int n : {4, 5, 12, 100, 1000}) {
+    std::vector<Vec3> pts;
+    for (int k = 0; k < n; ++k)
+      pts.push_back(r.unit3<float>() * 2.0f + Vec3{5, -3, 1});
+    auto const built = ConvexHull::build(pts);
+    REQUIRE(built);
+    check_hull(built.hull, pts);
+    // Points on a sphere: each is a vertex (no three collinear, none inside), but points closer
+    // than the tolerance merge, so allow a handful fewer.
+    CHECK(built.hull.vertices().size() <= std::size_t(n));
+    CHECK(built.hull.volume() < float(4.0 / 3.0 * kpi * 8));
+    if (n == 1000) CHECK(built.hull.volume() > 0.97f * float(4.0 / 3.0 * kpi * 8));
+  }
+  // A cube's faces sampled densely with noise far below the tolerance: still 6 faces.
+  std::vector<Vec3> pts = box_points({1, 1, 1});
+  for (int k = 0; k < 600; ++k) {
+    float const u = float(r.uniform(-1, 1)), v = float(r.uniform(-1, 1));
+    float const noise = float(r.uniform(-1e-7, 1e-7));
+    Vec3 p;
+    switch (k % 6) {
+    case 0:
+      p = {1 + noise, u, v};
+      break;
+    case 1:
+      p = {-1 + noise, u, v};
+      break;
+    case 2:
+      p = {u, 1 + noise, v};
+      break;
+    case 3:
+      p = {u, -1 + noise, v};
+      break;
+    case 4:
+      p = {u, v, 1 + noise};
+      break;
+    default:
+      p = {u, v, -1 + noise};
+      break;
+    }
+    pts.push_back(p);
+  }
+  auto const cube = ConvexHull::build(pts);
+  REQUIRE(cube);
+  CHECK(cube.hull.faces().size() == 6);
+  CHECK(cube.hull.vertices().size() == 8);
+  check_hull(cube.hull, pts);
+  // A regular 64-gon prism: 66 faces, two of them 64-gons.
+  std::vector<Vec3> prism;
+  for (int k = 0; k < 64; ++k) {
+    float const a = float(2 * kpi * k / 64);
+    prism.push_back({std::cos(a), -0.5f, std::sin(a)});
+    prism.push_back({std::cos(a), 0.5f, std::sin(a)});
+  }
+  auto const pr = ConvexHull::build(prism);
+  REQUIRE(pr);
+  CHECK(pr.hull.faces().size() == 66);
+  check_hull(pr.hull, prism);
+}
+
+TEST_CASE("hull build errors", "[collision][hull]") {
+  std::vector<Vec3> three{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  CHECK(ConvexHull::build(three).error == HullError::too_few_points);
+  std::vector<Vec3> same(10, Vec3{1, 2, 3});
+  CHECK(ConvexHull::build(same).error == HullError::coincident);
+  std::vector<Vec3> line;
+  for (int k = 0; k < 10; ++k)
+    line.push_back(Vec3{1, 2, 3} * float(k));
+  CHECK(ConvexHull::build(line).error == HullError::collinear);
+  std::vector<Vec3> plane;
+  for (int k = 0; k < 30; ++k)
+    plane.push_back({float(k % 7), float(k / 7), 1e-9f * float(k % 3)}); // within tolerance
+  CHECK(ConvexHull::build(plane).error == HullError::coplanar);
+  auto nan_pts = box_points({1, 1, 1});
+  nan_pts[3].y = std::numeric_limits<float>::quiet_NaN();
+  CHECK(ConvexHull::build(nan_pts).error == HullError::non_finite);
+  nan_pts[3].y = std::numeric_limits<float>::infinity();
+  auto const bad = ConvexHull::build(nan_pts);
+  CHECK(bad.error == HullError::non_finite);
+  CHECK(!bad);
+  CHECK(bad.hull.empty());
+  CHECK(std::string(to_string(HullError::coplanar)).find("plane") != std::string::npos);
+}
+
+TEST_CASE("mass properties: closed forms, slices, hulls, parallel axes", "[collision][mass]") {
+  float const rho = 2.5f;
+  // Sphere: 2/5 m r^2.
+  auto const sp = Sphere{2}.mass_properties(rho);
+  CHECK(sp.mass == Approx(rho * 4.0 / 3.0 * kpi * 8).epsilon(1e-6));
+  CHECK(sp.inertia.x_axis.x == Approx(0.4 * sp.mass * 4).epsilon(1e-6));
+  CHECK(sp.inertia.y_axis.x == 0);
+  // Capsule and cylinder against slice integration along the axis (double, midpoint rule):
+  // a disc of radius q at height y contributes dm q^2 / 2 about Y and dm (q^2/4 + y^2) about X.
+  auto const slices = [](double h, double r, bool caps) {
+    int const n = 400000;
+    double const top = caps ? h + r : h;
+    double m = 0, ix = 0, iy = 0;
+    for (int k = 0; k < n; ++k) {
+      double const y = -top + (k + 0.5) * (2 * top / n);
+      double const ay = std::abs(y);
+      double const q2 = ay <= h ? r * r : r * r - (ay - h) * (ay - h);
+      double const dm = kpi * q2 * (2 * top / n);
+      m += dm, iy += dm * q2 / 2, ix += dm * (q2 / 4 + y * y);
+    }
+    return std::array<double, 3>{m, ix, iy};
+  };
+  for (auto [h, rad] : {std::pair{0.75f, 0.5f}, std::pair{0.0f, 1.0f}, std::pair{2.0f, 0.25f}}) {
+    auto const cap = Capsule{h, rad}.mass_properties(1.0f);
+    auto const want = slices(h, rad, true);
+    CHECK(cap.mass == Approx(want[0]).epsilon(1e-5));
+    CHECK(cap.inertia.x_axis.x == Approx(want[1]).epsilon(1e-5));
+    CHECK(cap.inertia.y_axis.y == Approx(want[2]).epsilon(1e-5));
+    CHECK(cap.inertia.z_axis.z == cap.inertia.x_axis.x);
+    auto const cyl = Cylinder{h, rad}.mass_properties(1.0f);
+    auto const wc = slices(h, rad, false);
+    CHECK(cyl.mass == Approx(wc[0]).epsilon(1e-5).margin(1e-12));
+    CHECK(cyl.inertia.x_axis.x == Approx(wc[1]).epsilon(1e-5).margin(1e-12));
+    CHECK(cyl.inertia.y_axis.y == Approx(wc[2]).epsilon(1e-5).margin(1e-12));
+  }
+  // A capsule of zero height is a sphere.
+  auto const ball = Capsule{0, 1.5f}.mass_properties(rho);
+  auto const ball2 = Sphere{1.5f}.mass_properties(rho);
+  CHECK(ball.mass == Approx(ball2.mass).epsilon(1e-6));
+  CHECK(ball.inertia.x_axis.x == Approx(ball2.inertia.x_axis.x).epsilon(1e-6));
+  // Box: hull and closed form agree; a moved hull moves its centre, keeps its inertia.
+  Vec3 const e{0.5f, 1, 1.5f};
+  auto const box = Cuboid{e}.mass_properties(rho);
+  CHECK(box.inertia.x_axis.x == Approx(rho * 6 / 3.0 * (1 + 2.25)).epsilon(1e-6));
+  auto pts = box_points(e);
+  for (Vec3& p : pts)
+    p += Vec3{10, -20, 30};
+  auto const hull = ConvexHull::build(pts);
+  REQUIRE(hull);
+  auto const hm = hull.hull.mass_properties(rho);
+  CHECK(hm.mass == Approx(box.mass).epsilon(1e-6));
+  CHECK((hm.center - Vec3{10, -20, 30}).length() < 1e-5f);
+  CHECK(hm.inertia.abs_diff_eq(box.inertia, 1e-4f * box.inertia.x_axis.x));
+  // The tetrahedron (0, x, y, z): volume V = 1/6, centre (1/4)(1, 1, 1); over it the
+  // integrals of x^2 and xy are 1/60 and 1/120, so about the centre the covariance is
+  // C_xx = 1/60 - V/16 and C_xy = 1/120 - V/16, and I_xx = C_yy + C_zz, I_xy = -C_xy.
+  std::vector<Vec3> tet{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  auto const th = ConvexHull::build(tet);
+  REQUIRE(th);
+  auto const tm = th.hull.mass_properties(1.0f);
+  double const V = 1.0 / 6, cxx = 1.0 / 60 - V / 16, cxy = 1.0 / 120 - V / 16;
+  CHECK(tm.mass == Approx(V).epsilon(1e-6));
+  CHECK(tm.center.x == Approx(0.25).epsilon(1e-6));
+  CHECK(tm.inertia.x_axis.x == Approx(2 * cxx).epsilon(1e-5));
+  CHECK(tm.inertia.y_axis.x == Approx(-cxy).epsilon(1e-5));
+  // Parallel axes and compounds: two boxes side by side equal one box twice as long.
+  MassProperties const left =
+      Cuboid{{0.5f, 1, 1}}.mass_properties(rho).transformed(Iso3::from_translation({-0.5f, 0, 0}));
+  MassProperties const right =
+      Cuboid{{0.5f, 1, 1}}.mass_properties(rho).transformed(Iso3::from_translation({0.5f, 0, 0}));
+  auto const both = left.combine(right);
+  auto const whole = Cuboid{{1, 1, 1}}.mass_properties(rho);
+  CHECK(both.mass == Approx(whole.mass));
+  CHECK(both.center.length() < 1e-6f);
+  CHECK(both.inertia.abs_diff_eq(whole.inertia, 1e-5f * whole.inertia.x_axis.x));
+  // A rotated box: R I R^T, still symmetric, same trace.
+  auto const turned = Cuboid{e}.mass_properties(rho).transformed(
+      Iso3::from_rotation(Quat::from_axis_angle(Vec3{1, 1, 0}.normalize(), 0.6f)));
+  CHECK(turned.inertia.is_symmetric(1e-5f * box.inertia.x_axis.x));
+  CHECK(turned.inertia.trace() == Approx(box.inertia.trace()).epsilon(1e-6));
+  // Surfaces and lines have no mass.
+  CHECK(Triangle{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}.mass_properties(rho).mass == 0);
+  CHECK(Segment{{0, 0, 0}, {2, 0, 0}}.mass_properties(rho).center.x == 1);
+}
+
+#if PLUME_HAS_BATCHES
+TEMPLATE_LIST_TEST_CASE("wide polytopes and mass properties are lane-exact",
+                        "[collision][hull][lanes]", wide_real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  rng r(8);
+  // lanes_v<T> hulls of different sizes packed into one wide polytope.
+  std::vector<GConvexHull<S>> hulls;
+  for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+    std::vector<GVec3<S>> pts;
+    for (std::size_t k = 0; k < 6 + 3 * i; ++k)
+      pts.push_back(r.unit3<S>() * S(1 + 0.1 * double(i)));
+    auto built = GConvexHull<S>::build(pts);
+    REQUIRE(built);
+    hulls.push_back(std::move(built.hull));
+  }
+  std::vector<std::span<GVec3<S> const>> views;
+  for (auto const& h : hulls)
+    views.push_back(h.vertices());
+  auto const packed = pack_polytopes<T>(views);
+  GConvexPolytope<T> const wide{packed};
+  for (int k = 0; k < 100; ++k) {
+    GVec3<T> const d = r.vec3<T>(-1, 1);
+    GVec3<T> const w = wide.support(d);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i)
+      CHECK(same(lane(w, i), hulls[i].support(lane(d, i))));
+  }
+  check_lanes<T>(
+      "capsule mass", 20,
+      [&](std::size_t) {
+        return std::tuple{r.elem<T>(0, 2), r.elem<T>(0.1, 1)};
+      },
+      [](auto h, auto rad) {
+        return GCapsule<decltype(h)>{h, rad}.mass_properties(decltype(h)(2)).inertia;
+      });
+}
+#endif

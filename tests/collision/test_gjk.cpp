@@ -1,0 +1,485 @@
+// The GJK family: closest points against double-precision oracles (closed forms for spheres
+// and capsules, feature-pair brute force for polytopes), shape casts against closed forms up
+// to 1,000 m targets, GJK ray casts against the closed-form casts, bad input, warm starts and
+// lane-exactness of every wide query.
+#include "../math/math_support.hpp"
+
+#include <plume/collision/convex_hull.hpp>
+#include <plume/collision/gjk.hpp>
+#include <plume/collision/ray_cast.hpp>
+#include <plume/collision/shapes.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+using namespace plume;
+using namespace plume::test;
+
+namespace {
+
+using D3 = GVec3<double>;
+D3 to_d(Vec3 v) { return {v.x, v.y, v.z}; }
+
+/// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
+D3 closest_on_triangle(D3 p, D3 a, D3 b, D3 c) {
+  D3 const ab = b - a, ac = c - a, ap = p - a;
+  double const d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  D3 const bp = p - b;
+  double const d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  double const vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  D3 const cp = p - c;
+  double const d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  double const vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  double const va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  double const den = 1 / (va + vb + vc);
+  return a + ab * (vb * den) + ac * (vc * den);
+}
+
+/// Squared distance between segments p1q1 and p2q2 (Ericson 5.1.9).
+double segment_distance2(D3 p1, D3 q1, D3 p2, D3 q2) {
+  D3 const d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
+  double const a = d1.dot(d1), e = d2.dot(d2), f = d2.dot(r);
+  double s, t;
+  if (a <= 1e-300 && e <= 1e-300) return r.dot(r);
+  if (a <= 1e-300) {
+    s = 0, t = std::clamp(f / e, 0.0, 1.0);
+  } else {
+    double const c = d1.dot(r);
+    if (e <= 1e-300) {
+      t = 0, s = std::clamp(-c / a, 0.0, 1.0);
+    } else {
+      double const b = d1.dot(d2), den = a * e - b * b;
+      s = den != 0 ? std::clamp((b * f - c * e) / den, 0.0, 1.0) : 0.0;
+      t = (b * s + f) / e;
+      if (t < 0)
+        t = 0, s = std::clamp(-c / a, 0.0, 1.0);
+      else if (t > 1)
+        t = 1, s = std::clamp((b - c) / a, 0.0, 1.0);
+    }
+  }
+  D3 const k = (p1 + d1 * s) - (p2 + d2 * t);
+  return k.dot(k);
+}
+
+/// Distance between two separated convex polytopes given as hulls at poses: the minimum over
+/// vertex-face, face-vertex and edge-edge feature pairs, in double.
+double polytope_distance(ConvexHull const& a, Iso3 const& pa, ConvexHull const& b, Iso3 const& pb) {
+  auto world = [](ConvexHull const& h, Iso3 const& p) {
+    std::vector<D3> out;
+    for (Vec3 const& v : h.vertices())
+      out.push_back(to_d(p.transform_point(v)));
+    return out;
+  };
+  auto const va = world(a, pa), vb = world(b, pb);
+  double best = std::numeric_limits<double>::infinity();
+  auto faces_vs_points = [&](ConvexHull const& h, std::vector<D3> const& hv,
+                             std::vector<D3> const& pts) {
+    for (std::size_t f = 0; f < h.faces().size(); ++f) {
+      auto const fv = h.face_vertices(f);
+      for (std::size_t i = 1; i + 1 < fv.size(); ++i)
+        for (D3 const& p : pts) {
+          D3 const q = closest_on_triangle(p, hv[fv[0]], hv[fv[i]], hv[fv[i + 1]]);
+          best = std::min(best, (p - q).length());
+        }
+    }
+  };
+  faces_vs_points(a, va, vb);
+  faces_vs_points(b, vb, va);
+  for (HullEdge const& ea : a.edges())
+    for (HullEdge const& eb : b.edges())
+      best = std::min(best, std::sqrt(segment_distance2(va[ea.a], va[ea.b], vb[eb.a], vb[eb.b])));
+  return best;
+}
+
+ConvexHull random_hull(rng& r, int n, float size) {
+  std::vector<Vec3> pts;
+  for (int k = 0; k < n; ++k)
+    pts.push_back(r.vec3<float>(-1, 1) * size);
+  auto built = ConvexHull::build(pts);
+  REQUIRE(built);
+  return std::move(built.hull);
+}
+
+ConvexHull box_hull(Vec3 e) {
+  std::vector<Vec3> p;
+  for (int i = 0; i < 8; ++i)
+    p.push_back({(i & 1) ? e.x : -e.x, (i & 2) ? e.y : -e.y, (i & 4) ? e.z : -e.z});
+  auto built = ConvexHull::build(p);
+  REQUIRE(built);
+  return std::move(built.hull);
+}
+
+Iso3 random_pose(rng& r, float spread) { return {r.quat<float>(), r.vec3<float>(-spread, spread)}; }
+
+} // namespace
+
+TEST_CASE("closest points: spheres and capsules against closed forms", "[collision][gjk]") {
+  rng r(21);
+  double worst = 0;
+  for (int k = 0; k < 500; ++k) {
+    float const ra = float(r.uniform(0, 1)), rb = float(r.uniform(0, 1));
+    float const ha = float(r.uniform(0, 2)), hb = float(r.uniform(0, 2));
+    Iso3 const pa = random_pose(r, 4), pb = random_pose(r, 4);
+    // Sphere - sphere.
+    auto const ss = closest_points(Sphere{ra}, pa, Sphere{rb}, pb);
+    double const dss = (to_d(pa.translation) - to_d(pb.translation)).length() - ra - rb;
+    REQUIRE(ss.converged);
+    CHECK(std::abs(ss.distance - dss) <= 1e-5 * (1 + std::abs(dss)));
+    // Capsule - capsule: the segment distance minus the radii (negative = overlap depth).
+    auto const cc = closest_points(Capsule{ha, ra}, pa, Capsule{hb, rb}, pb);
+    D3 const a0 = to_d(pa.transform_point({0, -ha, 0})), a1 = to_d(pa.transform_point({0, ha, 0}));
+    D3 const b0 = to_d(pb.transform_point({0, -hb, 0})), b1 = to_d(pb.transform_point({0, hb, 0}));
+    double const core = std::sqrt(segment_distance2(a0, a1, b0, b1));
+    if (core < 1e-3) continue; // the cores (nearly) touch: covered by the overlap test
+    REQUIRE(cc.converged);
+    CHECK(!cc.overlap);
+    double const err = std::abs(cc.distance - (core - ra - rb));
+    worst = std::max(worst, err);
+    CHECK(err <= 1e-4);
+    // The points are on the surfaces and the normal joins them.
+    CHECK(std::abs((cc.point_b - cc.point_a).dot(cc.normal) - cc.distance) <= 1e-4f);
+    CHECK(std::abs(cc.normal.length() - 1) <= 1e-5f);
+  }
+  WARN("capsule-capsule worst |distance - closed form|: " << worst);
+}
+
+TEST_CASE("closest points between polytopes against feature-pair brute force", "[collision][gjk]") {
+  rng r(22);
+  double worst = 0;
+  int separated = 0;
+  for (int k = 0; k < 300; ++k) {
+    ConvexHull const a = random_hull(r, 12 + k % 20, 1), b = random_hull(r, 8 + k % 25, 1.5f);
+    Iso3 const pa = random_pose(r, 3), pb = random_pose(r, 3);
+    auto const cp = closest_points(a, pa, b, pb);
+    REQUIRE(cp.converged);
+    if (cp.overlap) continue;
+    ++separated;
+    double const want = polytope_distance(a, pa, b, pb);
+    double const err = std::abs(cp.distance - want);
+    worst = std::max(worst, err);
+    CHECK(err <= 2e-4 * (1 + want));
+    // The reported points are on (the surface of) their shapes: within the hull's planes.
+    for (auto const& f : a.faces())
+      CHECK(f.normal.dot(pa.inverse_transform_point(cp.point_a)) - f.offset <= 1e-4f);
+    for (auto const& f : b.faces())
+      CHECK(f.normal.dot(pb.inverse_transform_point(cp.point_b)) - f.offset <= 1e-4f);
+    CHECK(cp.iterations <= 20);
+  }
+  CHECK(separated > 100);
+  WARN("polytope distance: " << separated << " separated pairs, worst error " << worst);
+}
+
+TEST_CASE("closest points: overlap, touching, warm starts, bad input", "[collision][gjk]") {
+  ConvexHull const box = box_hull({1, 1, 1});
+  // Overlapping boxes: overlap, distance 0, zero normal.
+  auto const ov = closest_points(box, Iso3::from_translation({0.5f, 0.2f, 0}), box, Iso3{});
+  CHECK(ov.overlap);
+  CHECK(ov.converged);
+  CHECK(ov.distance == 0);
+  CHECK(ov.normal.length_squared() == 0);
+  // Spheres whose radii overlap but centres are apart: exact negative distance.
+  auto const ss =
+      closest_points(Sphere{1}, Iso3::from_translation({1.5f, 0, 0}), Sphere{1}, Iso3{});
+  CHECK(!ss.overlap);
+  CHECK(ss.distance == Approx(-0.5f));
+  CHECK(ss.normal.x == Approx(-1));
+  // Concentric spheres: the cores coincide (overlap).
+  CHECK(closest_points(Sphere{1}, Iso3{}, Sphere{2}, Iso3{}).overlap);
+  // Boxes exactly touching face to face.
+  auto const touch = closest_points(box, Iso3::from_translation({2, 0.3f, 0}), box, Iso3{});
+  CHECK(std::abs(touch.distance) <= 1e-6f);
+  // Warm start: the same pair moved slightly converges in fewer iterations.
+  rng r(5);
+  int cold = 0, warm = 0;
+  for (int k = 0; k < 100; ++k) {
+    ConvexHull const a = random_hull(r, 30, 1), b = random_hull(r, 30, 1);
+    Iso3 const pa{r.quat<float>(), {3, 0.5f, 0}}, pb = random_pose(r, 0.5f);
+    auto const first = closest_points(a, pa, b, pb);
+    Iso3 const moved{pa.rotation, pa.translation + Vec3{0.01f, 0.01f, 0}};
+    auto const again = closest_points(a, moved, b, pb);
+    auto const warmed = closest_points(a, moved, b, pb, GjkConfig{}, first.axis);
+    cold += int(again.iterations), warm += int(warmed.iterations);
+    CHECK(warmed.distance == Approx(again.distance).margin(2e-4));
+  }
+  CHECK(warm < cold);
+  WARN("iterations over 100 slightly moved pairs: cold " << cold << ", warm-started " << warm);
+  // Non-finite input: failed, NaN distance, no hang.
+  float const nan = std::numeric_limits<float>::quiet_NaN();
+  float const inf = std::numeric_limits<float>::infinity();
+  auto const bad = closest_points(box, Iso3::from_translation({nan, 0, 0}), box, Iso3{});
+  CHECK(bad.failed);
+  CHECK(!bad.converged);
+  CHECK(std::isnan(bad.distance));
+  CHECK(closest_points(Sphere{inf}, Iso3{}, box, Iso3{}).failed);
+  CHECK(closest_points(Cuboid{{nan, 1, 1}}, Iso3{}, box, Iso3::from_translation({5, 0, 0})).failed);
+  // A capped iteration count reports out of iterations (not converged).
+  GjkConfig one_step;
+  one_step.max_iterations = 1;
+  ConvexHull const round = random_hull(r, 200, 1);
+  auto const capped =
+      closest_points(round, Iso3::from_translation({4, 1, 0.5f}), round, Iso3{}, one_step);
+  CHECK(!capped.converged);
+  CHECK(!capped.failed);
+}
+
+TEST_CASE("shape casts against closed forms, targets up to 1,000 m", "[collision][gjk][cast]") {
+  rng r(31);
+  for (float size : {1.0f, 10.0f, 100.0f, 1000.0f}) {
+    double worst_sphere = 0, worst_box = 0, worst_box_hull = 0;
+    for (int k = 0; k < 200; ++k) {
+      // A unit sphere cast at a sphere of radius `size` from 0.5..3 sizes away, aimed at a
+      // random point of the target's front half.
+      D3 const aim = to_d(r.unit3<float>()) * (0.9 * size);
+      D3 const from_dir = to_d(r.unit3<float>());
+      D3 const start = from_dir * (size * r.uniform(1.5, 4.0) + 2.0);
+      D3 const motion_d = (aim - start) * 1.25;
+      Vec3 const motion{float(motion_d.x), float(motion_d.y), float(motion_d.z)};
+      Vec3 const s{float(start.x), float(start.y), float(start.z)};
+      // Closed form: the ray s + t m against a sphere of radius size + 1 (double, float inputs).
+      D3 const sd = to_d(s), md = to_d(motion);
+      double const R = double(size) + 1.0;
+      double const a = md.dot(md), b = sd.dot(md), c = sd.dot(sd) - R * R;
+      double const disc = b * b - a * c;
+      ShapeCastConfig cfg;
+      cfg.max_toi = 10;
+      auto const hit =
+          shape_cast(Sphere{1}, Iso3::from_translation(s), motion, Sphere{size}, Iso3{}, cfg);
+      if (disc < 0) {
+        CHECK(!hit.hit);
+        continue;
+      }
+      double const t = (-b - std::sqrt(disc)) / a;
+      REQUIRE(hit.hit);
+      CHECK(hit.converged);
+      worst_sphere = std::max(worst_sphere, std::abs(hit.toi - t) / t);
+    }
+    for (int k = 0; k < 200; ++k) {
+      // A unit cube (axis-aligned, as a cuboid and as a hull) cast at a cube of half extent
+      // `size`, hitting the +x face inside its face: toi = gap / |m_x|.
+      double const gap = size * r.uniform(0.5, 3.0);
+      D3 const start{size + 1 + gap, r.uniform(-0.5, 0.5) * size, r.uniform(-0.5, 0.5) * size};
+      D3 const target{size, r.uniform(-0.4, 0.4) * size, r.uniform(-0.4, 0.4) * size};
+      D3 const md = (target - D3{start.x - 1, start.y, start.z}) * 1.5;
+      Vec3 const motion{float(md.x), float(md.y), float(md.z)};
+      Vec3 const s{float(start.x), float(start.y), float(start.z)};
+      double const t = (double(s.x) - 1 - size) / -double(motion.x);
+      ShapeCastConfig cfg;
+      cfg.max_toi = 10;
+      auto const hit = shape_cast(Cuboid{{1, 1, 1}}, Iso3::from_translation(s), motion,
+                                  Cuboid{Vec3::splat(size)}, Iso3{}, cfg);
+      REQUIRE(hit.hit);
+      CHECK(hit.converged);
+      worst_box = std::max(worst_box, std::abs(hit.toi - t) / t);
+      CHECK(hit.normal.x == Approx(-1).margin(1e-5));
+      ConvexHull const unit = box_hull({1, 1, 1}), big = box_hull(Vec3::splat(size));
+      auto const hh = shape_cast(unit, Iso3::from_translation(s), motion, big, Iso3{}, cfg);
+      REQUIRE(hh.hit);
+      worst_box_hull = std::max(worst_box_hull, std::abs(hh.toi - t) / t);
+    }
+    INFO("target size " << size << " m: worst relative toi error sphere " << worst_sphere
+                        << ", box " << worst_box << ", box hull " << worst_box_hull);
+    CHECK(worst_sphere <= 1e-4);
+    CHECK(worst_box <= 1e-4);
+    CHECK(worst_box_hull <= 1e-4);
+    WARN("target " << size << " m: worst relative toi error sphere " << worst_sphere << ", box "
+                   << worst_box << ", box hull " << worst_box_hull);
+  }
+}
+
+TEST_CASE("shape casts: skins, starting in contact, misses, bad input", "[collision][gjk][cast]") {
+  ShapeCastConfig cfg;
+  cfg.max_toi = 1;
+  // A sphere 3 m from a wall moving 10 m: toi 0.3; with a 0.5 skin 0.25.
+  Iso3 const at{Quat::IDENTITY, {5, 0, 0}};
+  auto const wall = Cuboid{{1, 10, 10}};
+  auto const plain = shape_cast(Sphere{1}, at, Vec3{-10, 0, 0}, wall, Iso3{}, cfg);
+  CHECK(plain.toi == Approx(0.3f).margin(1e-5));
+  CHECK(plain.point_b.x == Approx(1).margin(1e-4));
+  CHECK(plain.point_a.x == Approx(1).margin(1e-4));
+  cfg.target_distance = 0.5f;
+  auto const skin = shape_cast(Sphere{1}, at, Vec3{-10, 0, 0}, wall, Iso3{}, cfg);
+  CHECK(skin.toi == Approx(0.25f).margin(1e-5));
+  cfg.target_distance = 0;
+  // Moving away, or not far enough: miss with toi +inf.
+  auto const away = shape_cast(Sphere{1}, at, Vec3{10, 0, 0}, wall, Iso3{}, cfg);
+  CHECK(!away.hit);
+  CHECK(away.converged);
+  CHECK(std::isinf(away.toi));
+  CHECK(!shape_cast(Sphere{1}, at, Vec3{-2.9f, 0, 0}, wall, Iso3{}, cfg).hit);
+  // Exactly reaching at max_toi hits.
+  CHECK(shape_cast(Sphere{1}, at, Vec3{-3, 0, 0}, wall, Iso3{}, cfg).hit);
+  // Zero motion: hit only when already in contact.
+  CHECK(!shape_cast(Sphere{1}, at, Vec3{}, wall, Iso3{}, cfg).hit);
+  // Starting in contact within the radii (cores apart): toi 0, penetrating, normal known.
+  Iso3 const touching{Quat::IDENTITY, {1.5f, 0, 0}};
+  auto const start = shape_cast(Sphere{1}, touching, Vec3{-1, 0, 0}, wall, Iso3{}, cfg);
+  CHECK(start.hit);
+  CHECK(start.toi == 0);
+  CHECK(start.penetrating);
+  CHECK(!start.converged);
+  CHECK(start.normal.x == Approx(-1));
+  // ... moving out: ignored when stop_at_penetration is false, reported otherwise.
+  CHECK(shape_cast(Sphere{1}, touching, Vec3{1, 0, 0}, wall, Iso3{}, cfg).hit);
+  ShapeCastConfig lenient = cfg;
+  lenient.stop_at_penetration = false;
+  CHECK(!shape_cast(Sphere{1}, touching, Vec3{1, 0, 0}, wall, Iso3{}, lenient).hit);
+  CHECK(shape_cast(Sphere{1}, touching, Vec3{-1, 0, 0}, wall, Iso3{}, lenient).hit);
+  // Deep penetration (cores overlap): toi 0, penetrating, zero normal.
+  auto const deep = shape_cast(Cuboid{{1, 1, 1}}, Iso3{}, Vec3{1, 0, 0}, wall, Iso3{}, cfg);
+  CHECK(deep.hit);
+  CHECK(deep.penetrating);
+  CHECK(deep.normal.length_squared() == 0);
+  // Non-finite input: failed, no hit, no hang.
+  float const nan = std::numeric_limits<float>::quiet_NaN();
+  auto const bad = shape_cast(Sphere{1}, at, Vec3{nan, 0, 0}, wall, Iso3{}, cfg);
+  CHECK(bad.failed);
+  CHECK(!bad.hit);
+  CHECK(
+      shape_cast(Sphere{1}, Iso3::from_translation({nan, 0, 0}), Vec3{-1, 0, 0}, wall, Iso3{}, cfg)
+          .failed);
+  CHECK(shape_cast(Sphere{1}, at, Vec3{-1, 0, 0}, Cuboid{{nan, 1, 1}}, Iso3{}, cfg).failed);
+  // Infinite max_toi: a hit far away is found.
+  ShapeCastConfig unlimited = cfg;
+  unlimited.max_toi = std::numeric_limits<float>::infinity();
+  CHECK(shape_cast(Sphere{1}, at, Vec3{-1e-3f, 0, 0}, wall, Iso3{}, unlimited).toi ==
+        Approx(3000).epsilon(1e-5));
+}
+
+TEST_CASE("GJK ray casts agree with the closed forms", "[collision][gjk][ray]") {
+  rng r(41);
+  int hits = 0;
+  double worst = 0;
+  auto const compare = [&](auto const& shape, Iso3 const& pose, Ray3 const& ray, bool solid) {
+    auto const want = ray_cast(shape, pose, ray, 100.0f, solid);
+    auto const got = ray_cast_gjk(shape, pose, ray, 100.0f, solid);
+    if (want.hit != got.hit) {
+      // Only grazing rays may differ: then the two answers are within tolerance of a tangent.
+      float const t = want.hit ? want.toi : got.toi;
+      auto const near_miss =
+          closest_points(Sphere{0}, Iso3::from_translation(ray.at(t)), shape, pose);
+      CHECK(std::abs(near_miss.distance) <= 2e-4f);
+      return;
+    }
+    if (!want.hit) return;
+    ++hits;
+    double const err = std::abs(double(got.toi) - double(want.toi)) * ray.dir.length();
+    worst = std::max(worst, err);
+    CHECK(err <= 2e-4);
+    if (solid) // entering: the GJK cast stops short, never late (up to the rounding of x)
+      CHECK((got.toi - want.toi) * ray.dir.length() <=
+            8 * std::numeric_limits<float>::epsilon() * (1 + ray.origin.length()));
+    if (want.toi > 0 && std::abs(want.normal.dot(ray.dir.normalize())) > 0.05f)
+      CHECK(got.normal.dot(want.normal) >= 0.999f);
+  };
+  for (int k = 0; k < 400; ++k) {
+    Iso3 const pose = random_pose(r, 1);
+    // Rays from around the shape aimed near its centre (most hit, some graze or miss).
+    Vec3 const origin = r.vec3<float>(-4, 4);
+    Vec3 const aim = pose.translation + r.vec3<float>(-1.5, 1.5);
+    Ray3 const ray{origin, (aim - origin) * float(r.uniform(0.1, 2))};
+    bool const solid = k % 3 != 0;
+    compare(Sphere{float(r.uniform(0.2, 2))}, pose, ray, solid);
+    compare(Capsule{float(r.uniform(0, 1.5)), float(r.uniform(0.2, 1))}, pose, ray, solid);
+    compare(Cuboid{r.vec3<float>(0.2, 2)}, pose, ray, solid);
+    compare(Cylinder{float(r.uniform(0.2, 1.5)), float(r.uniform(0.2, 1))}, pose, ray, solid);
+  }
+  CHECK(hits > 600); // coverage: most aimed rays hit
+  WARN("GJK ray casts vs closed forms: " << hits << " hits, worst |toi error| " << worst);
+  // A hull: the solid cast from inside hits at 0, the hollow one at the exit face.
+  ConvexHull const box = box_hull({1, 2, 3});
+  auto const inside = ray_cast_gjk(box, Iso3{}, Ray3{{0, 0, 0}, {0, 0, 2}}, 10.0f, true);
+  CHECK(inside.hit);
+  CHECK(inside.toi == 0);
+  CHECK(inside.normal.length_squared() == 0);
+  auto const exit = ray_cast_gjk(box, Iso3{}, Ray3{{0, 0, 0}, {0, 0, 2}}, 10.0f, false);
+  CHECK(exit.hit);
+  CHECK(exit.toi == Approx(1.5f).margin(1e-4));
+  CHECK(exit.normal.z == Approx(1).margin(1e-5));
+  CHECK(!ray_cast_gjk(box, Iso3{}, Ray3{{0, 0, 0}, {0, 0, 2}}, 1.0f, false).hit);
+  // Bad input.
+  float const nan = std::numeric_limits<float>::quiet_NaN();
+  CHECK(!ray_cast_gjk(box, Iso3{}, Ray3{{nan, 0, 0}, {1, 0, 0}}, 10.0f).hit);
+  CHECK(!ray_cast_gjk(box, Iso3{}, Ray3{{5, 0, 0}, {-1, 0, 0}}, nan).hit);
+  CHECK(!ray_cast_gjk(box, Iso3{}, Ray3{{5, 0, 0}, {0, 0, 0}}, 10.0f).hit);
+  CHECK(
+      ray_cast_gjk(box, Iso3{}, Ray3{{5, 0, 0}, {-1, 0, 0}}, std::numeric_limits<float>::infinity())
+          .toi == Approx(4).margin(1e-4));
+}
+
+#if PLUME_HAS_BATCHES
+TEMPLATE_LIST_TEST_CASE("GJK queries are lane-exact", "[collision][gjk][lanes]", wide_real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  rng r(77);
+  // lanes_v<T> different hulls packed into one wide polytope, plus wide spheres/capsules.
+  std::vector<GConvexHull<S>> hulls;
+  for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+    std::vector<GVec3<S>> pts;
+    for (std::size_t k = 0; k < 10 + 2 * i; ++k)
+      pts.push_back(GVec3<S>{S(r.uniform(-1, 1)), S(r.uniform(-1, 1)), S(r.uniform(-1, 1))});
+    auto built = GConvexHull<S>::build(pts);
+    REQUIRE(built);
+    hulls.push_back(std::move(built.hull));
+  }
+  std::vector<std::span<GVec3<S> const>> views;
+  for (auto const& h : hulls)
+    views.push_back(h.vertices());
+  auto const packed = pack_polytopes<T>(views);
+  GConvexPolytope<T> const wide{packed};
+  std::vector<std::vector<GVec3<S>>> lane_pts(lanes_v<T>);
+  for (std::size_t i = 0; i < lanes_v<T>; ++i)
+    for (auto const& p : packed)
+      lane_pts[i].push_back(lane(p, i));
+  S const nan = std::numeric_limits<S>::quiet_NaN();
+  int failures = 0;
+  for (int k = 0; k < 40; ++k) {
+    GIso3<T> pa{r.quat<T>(), r.vec3<T>(-3, 3)};
+    GIso3<T> const pb{r.quat<T>(), r.vec3<T>(-1, 1)};
+    GVec3<T> motion = r.vec3<T>(-4, 4);
+    if (k % 5 == 0) // a NaN lane
+      pa.translation.x = plume::with_lane(pa.translation.x, std::size_t(k) % lanes_v<T>, nan);
+    if (k % 7 == 0) motion = GVec3<T>{};
+    T const radius = r.elem<T>(0, 1), hh = r.elem<T>(0, 1);
+    auto const cp = closest_points(GCapsule<T>{hh, radius}, pa, wide, pb);
+    ShapeCastConfig cfg;
+    cfg.max_toi = 2;
+    cfg.target_distance = k % 2 ? 0.05f : 0.0f;
+    auto const sc = shape_cast(GSphere<T>{radius}, pa, motion, wide, pb, cfg);
+    GRay3<T> const ray{pa.translation, motion};
+    auto const rc = ray_cast_gjk(wide, pb, ray, splat<T>(S(3)), k % 3 != 0);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      GConvexPolytope<S> const hull{lane_pts[i]};
+      GIso3<S> const la = lane(pa, i), lb = lane(pb, i);
+      auto const cps = closest_points(GCapsule<S>{lane(hh, i), lane(radius, i)}, la, hull, lb);
+      bool const ok_cp =
+          same(cps.distance, lane(cp.distance, i)) && same(cps.point_a, lane(cp.point_a, i)) &&
+          same(cps.normal, lane(cp.normal, i)) && cps.overlap == lane(cp.overlap, i) &&
+          cps.converged == lane(cp.converged, i) && same(cps.iterations, lane(cp.iterations, i));
+      auto const scs = shape_cast(GSphere<S>{lane(radius, i)}, la, lane(motion, i), hull, lb, cfg);
+      bool const ok_sc = same(scs.toi, lane(sc.toi, i)) && same(scs.normal, lane(sc.normal, i)) &&
+                         same(scs.point_a, lane(sc.point_a, i)) && scs.hit == lane(sc.hit, i) &&
+                         scs.penetrating == lane(sc.penetrating, i) &&
+                         scs.failed == lane(sc.failed, i);
+      auto const rcs =
+          ray_cast_gjk(hull, lb, GRay3<S>{la.translation, lane(motion, i)}, S(3), k % 3 != 0);
+      bool const ok_rc = same(rcs.toi, lane(rc.toi, i)) && same(rcs.normal, lane(rc.normal, i)) &&
+                         rcs.hit == lane(rc.hit, i);
+      if (!(ok_cp && ok_sc && ok_rc) && failures++ < 5)
+        FAIL_CHECK("case " << k << " lane " << i << ": closest " << ok_cp << " cast " << ok_sc
+                           << " ray " << ok_rc << " (wide d " << lane(cp.distance, i) << " scalar "
+                           << cps.distance << "; toi " << lane(sc.toi, i) << " vs " << scs.toi
+                           << ")");
+    }
+  }
+  CHECK(failures == 0);
+}
+#endif
