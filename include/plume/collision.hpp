@@ -6,9 +6,11 @@
 //   GConvexPolytope, GConvexHull (quickhull)         (collision/convex_hull.hpp)
 //   GRay3, GRayHit, ray_cast, ray_cast_local         (collision/ray_cast.hpp)
 //   closest_points, shape_cast, ray_cast_gjk         (collision/gjk.hpp)
+//   penetration (GJK + EPA; scalar)                  (collision/epa.hpp)
 #pragma once
 
 #include <plume/collision/convex_hull.hpp>
+#include <plume/collision/epa.hpp>
 #include <plume/collision/gjk.hpp>
 #include <plume/collision/mass_properties.hpp>
 #include <plume/collision/ray_cast.hpp>

@@ -1,0 +1,203 @@
+// Penetration depth (GJK + EPA): against the separating axis theorem for boxes and random
+// polytopes (the minimum overlap over face normals and edge-edge cross products, in double),
+// against closed forms for spheres inside boxes and rounded shapes, the flat fallbacks, and
+// the minimum translation property (moving by depth * normal makes the shapes touch).
+#include "../math/math_support.hpp"
+
+#include <plume/collision/convex_hull.hpp>
+#include <plume/collision/epa.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+using namespace plume;
+using namespace plume::test;
+
+namespace {
+
+using D3 = GVec3<double>;
+D3 to_d(Vec3 v) { return {v.x, v.y, v.z}; }
+
+struct sat_result {
+  double depth; // minimum overlap over the axes
+  D3 axis;      // unit, from A toward B
+};
+
+/// SAT over the face normals and edge-edge cross products of two hulls at poses.
+sat_result sat(ConvexHull const& a, Iso3 const& pa, ConvexHull const& b, Iso3 const& pb) {
+  auto world = [](ConvexHull const& h, Iso3 const& p) {
+    std::vector<D3> out;
+    for (Vec3 const& v : h.vertices())
+      out.push_back(to_d(p.transform_point(v)));
+    return out;
+  };
+  auto const va = world(a, pa), vb = world(b, pb);
+  std::vector<D3> axes;
+  for (auto const& f : a.faces())
+    axes.push_back(to_d(pa.transform_vector(f.normal)));
+  for (auto const& f : b.faces())
+    axes.push_back(to_d(pb.transform_vector(f.normal)));
+  for (HullEdge const& ea : a.edges())
+    for (HullEdge const& eb : b.edges()) {
+      D3 const c = (va[ea.b] - va[ea.a]).cross(vb[eb.b] - vb[eb.a]);
+      if (c.length() > 1e-9 * (va[ea.b] - va[ea.a]).length() * (vb[eb.b] - vb[eb.a]).length())
+        axes.push_back(c.normalize());
+    }
+  sat_result best{std::numeric_limits<double>::infinity(), {}};
+  for (D3 n : axes) {
+    double amin = 1e300, amax = -1e300, bmin = 1e300, bmax = -1e300;
+    for (D3 const& p : va)
+      amin = std::min(amin, p.dot(n)), amax = std::max(amax, p.dot(n));
+    for (D3 const& p : vb)
+      bmin = std::min(bmin, p.dot(n)), bmax = std::max(bmax, p.dot(n));
+    // Overlap when moving B along +n (B's low end below A's high end) or along -n.
+    double const up = amax - bmin, down = bmax - amin;
+    if (up < best.depth) best = {up, n};
+    if (down < best.depth) best = {down, n * -1.0};
+  }
+  return best;
+}
+
+ConvexHull hull_of(std::vector<Vec3> const& pts) {
+  auto built = ConvexHull::build(pts);
+  REQUIRE(built);
+  return std::move(built.hull);
+}
+
+ConvexHull box_hull(Vec3 e) {
+  std::vector<Vec3> p;
+  for (int i = 0; i < 8; ++i)
+    p.push_back({(i & 1) ? e.x : -e.x, (i & 2) ? e.y : -e.y, (i & 4) ? e.z : -e.z});
+  return hull_of(p);
+}
+
+} // namespace
+
+TEST_CASE("penetration depth of boxes and polytopes equals SAT", "[collision][epa]") {
+  rng r(91);
+  double worst_box = 0, worst_poly = 0;
+  int boxes = 0, polys = 0;
+  for (int k = 0; k < 300; ++k) {
+    Vec3 const ea = r.vec3<float>(0.2, 1.5), eb = r.vec3<float>(0.2, 1.5);
+    Iso3 const pa{r.quat<float>(), r.vec3<float>(-0.8, 0.8)},
+        pb{r.quat<float>(), r.vec3<float>(-0.8, 0.8)};
+    ConvexHull const ha = box_hull(ea), hb = box_hull(eb);
+    sat_result const want = sat(ha, pa, hb, pb);
+    if (want.depth <= 1e-3) continue; // apart or touching: covered elsewhere
+    ++boxes;
+    // The same pair as cuboids and as hulls.
+    auto const got = penetration(Cuboid{ea}, pa, Cuboid{eb}, pb);
+    auto const got_h = penetration(ha, pa, hb, pb);
+    REQUIRE(got.status == PenetrationStatus::penetrating);
+    REQUIRE(got_h.status == PenetrationStatus::penetrating);
+    double const err = std::abs(got.depth - want.depth);
+    worst_box = std::max(worst_box, std::max(err, std::abs(got_h.depth - want.depth)));
+    CHECK(err <= 1e-4 * (1 + want.depth));
+    CHECK(std::abs(got_h.depth - want.depth) <= 1e-4 * (1 + want.depth));
+    CHECK(std::abs(got.normal.length() - 1) < 1e-5f);
+    // Minimum translation: B moved by depth * normal touches A; by 99% of it still overlaps.
+    Iso3 const out{pb.rotation, pb.translation + got.normal * (got.depth * 1.001f + 1e-4f)};
+    CHECK(closest_points(Cuboid{ea}, pa, Cuboid{eb}, out).distance >= 0);
+    Iso3 const in{pb.rotation, pb.translation + got.normal * (got.depth * 0.99f - 1e-4f)};
+    CHECK(closest_points(Cuboid{ea}, pa, Cuboid{eb}, in).overlap);
+    // The points: A's deepest point is on A, B's on B, and they are depth apart along normal.
+    CHECK(std::abs((got.point_a - got.point_b).dot(got.normal) - got.depth) <= 1e-4f);
+  }
+  for (int k = 0; k < 300; ++k) {
+    std::vector<Vec3> pa_pts, pb_pts;
+    for (int i = 0; i < 10 + k % 12; ++i)
+      pa_pts.push_back(r.vec3<float>(-1, 1));
+    for (int i = 0; i < 6 + k % 15; ++i)
+      pb_pts.push_back(r.vec3<float>(-1, 1) * 0.7f);
+    ConvexHull const ha = hull_of(pa_pts), hb = hull_of(pb_pts);
+    Iso3 const pa{r.quat<float>(), r.vec3<float>(-0.5, 0.5)},
+        pb{r.quat<float>(), r.vec3<float>(-0.5, 0.5)};
+    sat_result const want = sat(ha, pa, hb, pb);
+    if (want.depth <= 1e-3) continue;
+    ++polys;
+    auto const got = penetration(ha, pa, hb, pb);
+    REQUIRE(got.status == PenetrationStatus::penetrating);
+    double const err = std::abs(got.depth - want.depth);
+    worst_poly = std::max(worst_poly, err);
+    CHECK(err <= 1e-4 * (1 + want.depth));
+    CHECK(got.iterations < EpaConfig{}.max_iterations);
+  }
+  CHECK(boxes > 100);
+  CHECK(polys > 100);
+  WARN("EPA vs SAT: " << boxes << " box pairs (worst |depth error| " << worst_box << "), " << polys
+                      << " polytope pairs (worst " << worst_poly << ")");
+}
+
+TEST_CASE("penetration: closed forms, rounded shapes, fallbacks, bad input", "[collision][epa]") {
+  // A sphere whose centre is inside a box: core depth = the distance to the nearest face.
+  Cuboid const box{{2, 1, 3}};
+  auto const sb = penetration(Sphere{0.5f}, Iso3::from_translation({1.5f, 0.2f, 0}), box, Iso3{});
+  CHECK(sb.status == PenetrationStatus::penetrating);
+  CHECK(sb.depth == Approx(0.5 + 0.5).margin(1e-5));
+  CHECK(sb.normal.x == Approx(-1).margin(1e-5)); // from the sphere toward the box's inside
+  CHECK(sb.point_a.x == Approx(1.0).margin(1e-5));
+  CHECK(sb.point_b.x == Approx(2.0).margin(1e-5));
+  // Only the radii overlap: GJK's exact answer, no EPA.
+  auto const ss = penetration(Sphere{1}, Iso3::from_translation({1.5f, 0, 0}), Sphere{1}, Iso3{});
+  CHECK(ss.status == PenetrationStatus::penetrating);
+  CHECK(ss.iterations == 0);
+  CHECK(ss.depth == Approx(0.5f));
+  // Apart: negative depth (minus the distance), status separated.
+  auto const apart = penetration(Sphere{1}, Iso3::from_translation({3, 0, 0}), Sphere{1}, Iso3{});
+  CHECK(apart.status == PenetrationStatus::separated);
+  CHECK(apart.depth == Approx(-1));
+  // Crossing capsules: the cores (segments) intersect, their difference is flat: the core
+  // depth is 0 and the normal is perpendicular to both axes, oriented from A toward B.
+  Quat const across = Quat::from_rotation_z(float(std::numbers::pi / 2));
+  auto const cc =
+      penetration(Capsule{1, 0.3f}, Iso3{}, Capsule{1, 0.2f}, Iso3{across, {0, 0.2f, 0}});
+  CHECK(cc.status == PenetrationStatus::penetrating);
+  CHECK(cc.depth == Approx(0.5f).margin(1e-5));
+  CHECK(std::abs(cc.normal.z) == Approx(1).margin(1e-5));
+  // ... and 0.1 apart along z: the cores are apart, GJK's exact depth 0.5 - 0.1, normal +z.
+  auto const near =
+      penetration(Capsule{1, 0.3f}, Iso3{}, Capsule{1, 0.2f}, Iso3{across, {0, 0.2f, 0.1f}});
+  CHECK(near.depth == Approx(0.4f).margin(1e-5));
+  CHECK(near.normal.z == Approx(1).margin(1e-5));
+  // Coincident sphere centres: depth = the sum of the radii.
+  auto const same_c = penetration(Sphere{1}, Iso3{}, Sphere{2}, Iso3{});
+  CHECK(same_c.depth == Approx(3));
+  CHECK(std::abs(same_c.normal.length() - 1) < 1e-6f);
+  // A capsule standing in a box (its core segment deep inside): EPA on segment - box.
+  auto const cb = penetration(Capsule{0.5f, 0.25f}, Iso3::from_translation({0, -0.2f, 0}),
+                              Cuboid{{2, 2, 2}}, Iso3::from_translation({0, -2, 0}));
+  CHECK(cb.depth == Approx(0.5 + 0.25 + 0.2).margin(1e-5));
+  CHECK(cb.normal.y == Approx(-1).margin(1e-5));
+  // Deep box in box.
+  auto const bb = penetration(Cuboid{{1, 1, 1}}, Iso3::from_translation({0, 1.5f, 0}),
+                              Cuboid{{5, 1, 5}}, Iso3{});
+  CHECK(bb.depth == Approx(0.5f).margin(1e-5));
+  CHECK(bb.normal.y == Approx(-1).margin(1e-5));
+  // A flat box through a triangle's plane.
+  auto const tri = penetration(Triangle{{-5, 0, -5}, {5, 0, -5}, {0, 0, 5}},
+                               Iso3::from_translation({0, -0.25f, 0}), Cuboid{{1, 1, 1}}, Iso3{});
+  CHECK(tri.status == PenetrationStatus::penetrating);
+  CHECK(tri.depth == Approx(0.75f).margin(1e-5));
+  // Non-finite input.
+  float const nan = std::numeric_limits<float>::quiet_NaN();
+  auto const bad = penetration(Sphere{1}, Iso3::from_translation({nan, 0, 0}), box, Iso3{});
+  CHECK(bad.status == PenetrationStatus::failed);
+  CHECK(std::isnan(bad.depth));
+  // A one-iteration cap reports approximate with a finite lower bound.
+  EpaConfig capped;
+  capped.max_iterations = 1;
+  std::vector<Vec3> round;
+  rng r(3);
+  for (int k = 0; k < 200; ++k)
+    round.push_back(r.unit3<float>());
+  ConvexHull const ball = hull_of(round);
+  auto const approx =
+      penetration(ball, Iso3{}, ball, Iso3::from_translation({0.3f, 0.1f, 0}), capped);
+  CHECK(approx.status == PenetrationStatus::approximate);
+  CHECK(std::isfinite(approx.depth));
+  auto const full = penetration(ball, Iso3{}, ball, Iso3::from_translation({0.3f, 0.1f, 0}));
+  CHECK(full.status == PenetrationStatus::penetrating);
+  CHECK(approx.depth <= full.depth + 1e-5f);
+}
