@@ -146,6 +146,8 @@ public:
     return std::span<std::uint32_t const>(face_neighbors_)
         .subspan(faces_[f].first, faces_[f].count);
   }
+  /// Every face's vertex indices, one face after the other (face f from faces()[f].first).
+  std::span<std::uint32_t const> face_vertex_indices() const noexcept { return face_vertices_; }
   /// The tolerance the hull was built with.
   S tolerance() const noexcept { return tolerance_; }
   bool empty() const noexcept { return vertices_.empty(); }

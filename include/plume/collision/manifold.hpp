@@ -1,0 +1,560 @@
+// plume/collision/manifold.hpp - contact manifolds: up to 4 contact points with one shared
+// normal between two shapes, for the contact solver, depenetration and move-and-slide.
+// Scalar (float or double): the solver gathers manifolds into lanes afterwards.
+//
+//   GManifold<S> m = contact_manifold(a, pose_a, b, pose_b, cfg);
+//   for (auto const& c : m) ... c.point_a, c.point_b, c.separation, c.id
+//
+// Conventions:
+//  - normal: unit, world, from A toward B (moving B along it separates them).
+//  - separation per point: the signed gap along the normal, negative = overlap; only points
+//    with separation <= cfg.prediction are kept (speculative contacts). point_a is on A's
+//    surface, point_b on B's; point_b - point_a = separation * normal (up to rounding).
+//  - id: a feature key (reference face, incident face, incident vertex or clipped edge) that
+//    stays the same while the same features touch, so a solver can match points across
+//    frames for warm starting. Ids are unique within a manifold.
+//  - count = 0: apart by more than the prediction distance (or failed: non-finite input).
+//
+// Pairs: spheres, capsules, cuboids, convex hulls and triangles against each other, and each
+// of them against a half-space (either order); any other convex shape (cylinder, polytope
+// view) gets one point from the penetration query.
+//  - Polytope pairs (cuboid, hull, triangle): the normal from GJK/EPA (collision/epa.hpp);
+//    when it is within cfg.face_alignment of a face normal, that face is the reference face,
+//    the most anti-parallel face of the other shape is the incident face, the incident face is
+//    clipped against the reference face's side planes (Sutherland-Hodgman) and the normal is
+//    the reference face's. Otherwise (edge against edge) one point. Triangles are two-sided.
+//  - Capsules: two points when the core segment lies parallel to a reference face (or to the
+//    other capsule), else one. Spheres: one point.
+//  - More than 4 points are reduced to 4: the deepest, the farthest from it, the one making
+//    the largest triangle with them, and the one adding the most area to that triangle.
+#pragma once
+
+#include <plume/collision/convex_hull.hpp>
+#include <plume/collision/epa.hpp>
+#include <plume/collision/shapes.hpp>
+#include <plume/math/iso3.hpp>
+#include <plume/math/vec3.hpp>
+
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <type_traits>
+
+namespace plume {
+
+template <ScalarReal S>
+struct GContactPoint {
+  GVec3<S> point_a; ///< world, on A's surface
+  GVec3<S> point_b; ///< world, on B's surface
+  S separation;     ///< along the normal; negative = overlap
+  std::uint64_t id; ///< feature key, stable while the same features touch
+};
+
+template <ScalarReal S>
+struct GManifold {
+  GVec3<S> normal{}; ///< unit, from A toward B
+  std::array<GContactPoint<S>, 4> points{};
+  int count = 0;
+  bool failed = false; ///< non-finite input (count 0)
+
+  GContactPoint<S> const* begin() const noexcept { return points.data(); }
+  GContactPoint<S> const* end() const noexcept { return points.data() + count; }
+  bool empty() const noexcept { return count == 0; }
+  /// The most negative separation (+infinity when empty).
+  S min_separation() const noexcept {
+    S m = std::numeric_limits<S>::infinity();
+    for (auto const& c : *this)
+      m = c.separation < m ? c.separation : m;
+    return m;
+  }
+};
+
+struct ManifoldConfig {
+  /// Keep points up to this separation (speculative contacts), length units.
+  float prediction = 0.02f;
+  /// cos of the largest angle between the contact normal and a face normal for which the
+  /// contact is treated as face contact (clipping); about 1.1 degrees.
+  float face_alignment = 0.9998f;
+  EpaConfig epa{};
+
+  ManifoldConfig scaled(float length_unit) const noexcept {
+    ManifoldConfig c = *this;
+    c.prediction *= length_unit;
+    c.epa.tolerance *= length_unit;
+    c.epa.gjk = c.epa.gjk.scaled(length_unit);
+    return c;
+  }
+};
+
+namespace detail {
+
+/// The faces of a polytope shape, in its local frame.
+template <ScalarReal S>
+struct face_set {
+  std::span<GVec3<S> const> verts;
+  std::span<HullFace<S> const> faces;
+  std::span<std::uint32_t const> index;
+  std::span<std::uint32_t const> face(std::size_t f) const noexcept {
+    return index.subspan(faces[f].first, faces[f].count);
+  }
+};
+
+template <ScalarReal S>
+struct box_faces {
+  std::array<GVec3<S>, 8> verts;
+  std::array<HullFace<S>, 6> faces;
+  static constexpr std::array<std::uint32_t, 24> index{
+      // -x, +x, -y, +y, -z, +z; vertex i has x = bit 0, y = bit 1, z = bit 2 (set = +);
+      // counter-clockwise seen from outside.
+      0, 4, 6, 2, 1, 3, 7, 5, 0, 1, 5, 4, 2, 6, 7, 3, 0, 2, 3, 1, 4, 5, 7, 6};
+  explicit box_faces(GVec3<S> const& e) noexcept {
+    for (std::uint32_t i = 0; i < 8; ++i)
+      verts[i] = {(i & 1) ? e.x : -e.x, (i & 2) ? e.y : -e.y, (i & 4) ? e.z : -e.z};
+    S const ex[3] = {e.x, e.y, e.z};
+    for (std::uint32_t k = 0; k < 6; ++k) {
+      GVec3<S> n{};
+      S const sign = (k & 1) ? S(1) : S(-1);
+      if (k / 2 == 0) n.x = sign;
+      if (k / 2 == 1) n.y = sign;
+      if (k / 2 == 2) n.z = sign;
+      faces[k] = {n, ex[k / 2], 4 * k, 4};
+    }
+  }
+  face_set<S> view() const noexcept { return {verts, faces, index}; }
+};
+
+template <ScalarReal S>
+struct triangle_faces {
+  std::array<GVec3<S>, 3> verts;
+  std::array<HullFace<S>, 2> faces;
+  static constexpr std::array<std::uint32_t, 6> index{0, 1, 2, 0, 2, 1};
+  explicit triangle_faces(GTriangle<S> const& t) noexcept : verts{t.a, t.b, t.c} {
+    GVec3<S> const n = t.scaled_normal().normalize_or_zero();
+    faces[0] = {n, n.dot(t.a), 0, 3};
+    faces[1] = {-n, -n.dot(t.a), 3, 3};
+  }
+  face_set<S> view() const noexcept { return {verts, faces, index}; }
+};
+
+template <class Shape>
+struct shape_kind {
+  static constexpr bool polytope = false, sphere = false, capsule = false, half_space = false;
+};
+template <ScalarReal S>
+struct shape_kind<GCuboid<S>> {
+  static constexpr bool polytope = true, sphere = false, capsule = false, half_space = false;
+};
+template <ScalarReal S>
+struct shape_kind<GConvexHull<S>> {
+  static constexpr bool polytope = true, sphere = false, capsule = false, half_space = false;
+};
+template <ScalarReal S>
+struct shape_kind<GTriangle<S>> {
+  static constexpr bool polytope = true, sphere = false, capsule = false, half_space = false;
+};
+template <ScalarReal S>
+struct shape_kind<GSphere<S>> {
+  static constexpr bool polytope = false, sphere = true, capsule = false, half_space = false;
+};
+template <ScalarReal S>
+struct shape_kind<GCapsule<S>> {
+  static constexpr bool polytope = false, sphere = false, capsule = true, half_space = false;
+};
+template <ScalarReal S>
+struct shape_kind<GHalfSpace<S>> {
+  static constexpr bool polytope = false, sphere = false, capsule = false, half_space = true;
+};
+
+/// Calls f with the face set of a polytope shape (built on the stack for boxes/triangles).
+template <ScalarReal S, class F>
+decltype(auto) with_faces(GCuboid<S> const& s, F&& f) {
+  box_faces<S> const b(s.half_extents);
+  return f(b.view());
+}
+template <ScalarReal S, class F>
+decltype(auto) with_faces(GTriangle<S> const& s, F&& f) {
+  triangle_faces<S> const t(s);
+  return f(t.view());
+}
+template <ScalarReal S, class F>
+decltype(auto) with_faces(GConvexHull<S> const& s, F&& f) {
+  return f(face_set<S>{s.vertices(), s.faces(), s.face_vertex_indices()});
+}
+
+/// A manifold under construction: up to 64 candidate points, reduced to 4 at the end.
+template <ScalarReal S>
+struct candidates {
+  static constexpr int capacity = 64;
+  std::array<GContactPoint<S>, capacity> pts{};
+  int n = 0;
+  void add(GContactPoint<S> const& c) noexcept {
+    if (n < capacity) pts[std::size_t(n++)] = c;
+  }
+};
+
+/// Keeps at most 4 of the candidates: deepest, farthest from it, largest triangle, largest
+/// area added (Gregorius' reduction).
+template <ScalarReal S>
+void reduce_into(candidates<S> const& c, GVec3<S> const& normal, GManifold<S>& m) noexcept {
+  m.count = 0;
+  if (c.n <= 4) {
+    for (int i = 0; i < c.n; ++i)
+      m.points[std::size_t(m.count++)] = c.pts[std::size_t(i)];
+    return;
+  }
+  auto const pos = [&](int i) { return c.pts[std::size_t(i)].point_b; };
+  int i0 = 0;
+  for (int i = 1; i < c.n; ++i)
+    if (c.pts[std::size_t(i)].separation < c.pts[std::size_t(i0)].separation) i0 = i;
+  int i1 = -1;
+  S best = S(-1);
+  for (int i = 0; i < c.n; ++i) {
+    S const d = (pos(i) - pos(i0)).length_squared();
+    if (i != i0 && d > best) best = d, i1 = i;
+  }
+  int i2 = -1;
+  best = S(-1);
+  for (int i = 0; i < c.n; ++i) {
+    S const a = std::abs((pos(i1) - pos(i0)).cross(pos(i) - pos(i0)).dot(normal));
+    if (i != i0 && i != i1 && a > best) best = a, i2 = i;
+  }
+  // Orient the triangle counter-clockwise around the normal, then take the point most outside
+  // one of its edges (the most negative edge area).
+  if ((pos(i1) - pos(i0)).cross(pos(i2) - pos(i0)).dot(normal) < S(0)) std::swap(i1, i2);
+  int i3 = -1;
+  best = S(0);
+  int const tri[3] = {i0, i1, i2};
+  for (int i = 0; i < c.n; ++i) {
+    if (i == i0 || i == i1 || i == i2) continue;
+    for (int e = 0; e < 3; ++e) {
+      S const a = (pos(tri[(e + 1) % 3]) - pos(tri[e])).cross(pos(i) - pos(tri[e])).dot(normal);
+      if (a < best) best = a, i3 = i;
+    }
+  }
+  for (int i : {i0, i1, i2, i3})
+    if (i >= 0) m.points[std::size_t(m.count++)] = c.pts[std::size_t(i)];
+}
+
+inline std::uint64_t feature_id(bool ref_is_b, std::uint32_t ref_face, std::uint32_t inc_face,
+                                std::uint32_t feature) noexcept {
+  return (std::uint64_t(ref_is_b) << 63) | (std::uint64_t(ref_face & 0x7fffff) << 40) |
+         (std::uint64_t(inc_face & 0xfffff) << 20) | std::uint64_t(feature & 0xfffff);
+}
+
+/// The face of fs (at pose) whose world normal is most along dir; its alignment.
+template <ScalarReal S>
+std::pair<std::uint32_t, S> best_face(face_set<S> const& fs, GIso3<S> const& pose,
+                                      GVec3<S> const& dir) noexcept {
+  GVec3<S> const local = pose.inverse_transform_vector(dir);
+  std::uint32_t best = 0;
+  S align = -std::numeric_limits<S>::infinity();
+  for (std::uint32_t f = 0; f < fs.faces.size(); ++f) {
+    S const a = fs.faces[f].normal.dot(local);
+    if (a > align) align = a, best = f;
+  }
+  return {best, align};
+}
+
+/// One point from a penetration result.
+template <ScalarReal S>
+void single_point(GPenetrationResult<S> const& p, GManifold<S>& m, ManifoldConfig const& cfg) {
+  m.normal = p.normal;
+  if (-p.depth <= S(cfg.prediction)) {
+    m.points[0] = {p.point_a, p.point_b, -p.depth, 0};
+    m.count = 1;
+  }
+}
+
+/// Clips the incident polygon (world points, with per-point feature keys) against the side
+/// planes of the reference face; keeps the points within the prediction distance.
+template <ScalarReal S>
+void clip_faces(face_set<S> const& ref, GIso3<S> const& ref_pose, std::uint32_t rf,
+                face_set<S> const& inc, GIso3<S> const& inc_pose, std::uint32_t inf, bool ref_is_b,
+                S r_ref, S r_inc, ManifoldConfig const& cfg, GManifold<S>& m) {
+  // Each point keeps its feature key and the original incident edge it starts (edge i runs
+  // from incident vertex i to i + 1), so a clipped point's key (incident edge, reference
+  // side) names the same features every frame.
+  struct vtx {
+    GVec3<S> p;
+    std::uint32_t key;
+    std::uint32_t edge;
+  };
+  std::array<vtx, 64> buf_a{}, buf_b{};
+  int na = 0;
+  auto const iv = inc.face(inf);
+  for (std::uint32_t i = 0; i < iv.size() && na < 64; ++i)
+    buf_a[std::size_t(na++)] = {inc_pose.transform_point(inc.verts[iv[i]]), i, i};
+  auto const rv = ref.face(rf);
+  GVec3<S> const rn = ref_pose.transform_vector(ref.faces[rf].normal);
+  GVec3<S> const r0 = ref_pose.transform_point(ref.verts[rv[0]]);
+  vtx* in = buf_a.data();
+  vtx* out = buf_b.data();
+  for (std::uint32_t k = 0; k < rv.size() && na > 0; ++k) {
+    GVec3<S> const a = ref_pose.transform_point(ref.verts[rv[k]]);
+    GVec3<S> const b = ref_pose.transform_point(ref.verts[rv[(k + 1) % rv.size()]]);
+    GVec3<S> const side = rn.cross(b - a); // points into the face
+    int no = 0;
+    for (int i = 0; i < na; ++i) {
+      vtx const& p = in[i];
+      vtx const& q = in[(i + 1) % na];
+      S const dp = (p.p - a).dot(side), dq = (q.p - a).dot(side);
+      if (dp >= S(0) && no < 64) out[no++] = p;
+      if ((dp >= S(0)) != (dq >= S(0)) && no < 64) {
+        S const t = dp / (dp - dq);
+        // A new point where incident edge i crosses reference side k.
+        out[no++] = {p.p + (q.p - p.p) * t, 0x80000u | ((p.edge & 0x3ff) << 8) | (k & 0xff),
+                     p.edge};
+      }
+    }
+    std::swap(in, out);
+    na = no;
+  }
+  candidates<S> c;
+  for (int i = 0; i < na; ++i) {
+    S const s = (in[i].p - r0).dot(rn) - r_ref - r_inc;
+    if (s > S(cfg.prediction)) continue;
+    GVec3<S> const on_inc = in[i].p - rn * r_inc;
+    GVec3<S> const on_ref = in[i].p - rn * ((in[i].p - r0).dot(rn) - r_ref);
+    std::uint64_t const id = feature_id(ref_is_b, rf, inf, in[i].key);
+    c.add(ref_is_b ? GContactPoint<S>{on_inc, on_ref, s, id}
+                   : GContactPoint<S>{on_ref, on_inc, s, id});
+  }
+  m.normal = ref_is_b ? -rn : rn;
+  reduce_into(c, m.normal, m);
+}
+
+/// The core segment of a capsule clipped against a reference face (two points), with the
+/// feature key of each end.
+template <ScalarReal S>
+void clip_segment(face_set<S> const& ref, GIso3<S> const& ref_pose, std::uint32_t rf, GVec3<S> p0,
+                  GVec3<S> p1, bool ref_is_b, S r_seg, ManifoldConfig const& cfg, GManifold<S>& m) {
+  auto const rv = ref.face(rf);
+  GVec3<S> const rn = ref_pose.transform_vector(ref.faces[rf].normal);
+  GVec3<S> const r0 = ref_pose.transform_point(ref.verts[rv[0]]);
+  S t0 = S(0), t1 = S(1);
+  std::uint32_t k0 = 0, k1 = 1; // end keys: 0/1 = the segment's own ends, 0x80000|k = clipped
+  GVec3<S> const d = p1 - p0;
+  for (std::uint32_t k = 0; k < rv.size(); ++k) {
+    GVec3<S> const a = ref_pose.transform_point(ref.verts[rv[k]]);
+    GVec3<S> const b = ref_pose.transform_point(ref.verts[rv[(k + 1) % rv.size()]]);
+    GVec3<S> const side = rn.cross(b - a);
+    S const s0 = (p0 - a).dot(side), sd = d.dot(side);
+    // Keep s0 + t sd >= 0.
+    if (sd == S(0)) {
+      if (s0 < S(0)) t1 = S(-1); // outside and parallel: nothing left
+      continue;
+    }
+    S const t = -s0 / sd;
+    if (sd > S(0) && t > t0) t0 = t, k0 = 0x80000u | k;
+    if (sd < S(0) && t < t1) t1 = t, k1 = 0x80000u | k;
+  }
+  m.normal = ref_is_b ? -rn : rn;
+  if (t1 < t0) return;
+  candidates<S> c;
+  for (int e = 0; e < 2; ++e) {
+    GVec3<S> const p = p0 + d * (e == 0 ? t0 : t1);
+    S const s = (p - r0).dot(rn) - r_seg;
+    if (s > S(cfg.prediction)) continue;
+    GVec3<S> const on_seg = p - rn * r_seg;
+    GVec3<S> const on_ref = p - rn * (p - r0).dot(rn);
+    std::uint64_t const id = feature_id(ref_is_b, rf, 0xfffff, e == 0 ? k0 : k1);
+    c.add(ref_is_b ? GContactPoint<S>{on_seg, on_ref, s, id}
+                   : GContactPoint<S>{on_ref, on_seg, s, id});
+  }
+  reduce_into(c, m.normal, m);
+}
+
+/// The points of a shape below a half-space (plane normal n through point o, world).
+template <ScalarReal S, class Shape>
+void against_plane(GVec3<S> const& n, GVec3<S> const& o, Shape const& s, GIso3<S> const& pose,
+                   bool plane_is_b, ManifoldConfig const& cfg, GManifold<S>& m) {
+  candidates<S> c;
+  auto const add = [&](GVec3<S> const& core_local, S radius, std::uint32_t key) {
+    GVec3<S> const p = pose.transform_point(core_local);
+    S const sep = (p - o).dot(n) - radius;
+    if (sep > S(cfg.prediction)) return;
+    GVec3<S> const on_shape = p - n * radius;
+    GVec3<S> const on_plane = p - n * (p - o).dot(n);
+    std::uint64_t const id = feature_id(!plane_is_b, 0, 0, key);
+    c.add(plane_is_b ? GContactPoint<S>{on_shape, on_plane, sep, id}
+                     : GContactPoint<S>{on_plane, on_shape, sep, id});
+  };
+  using K = shape_kind<Shape>;
+  if constexpr (K::sphere) {
+    add(GVec3<S>{}, s.radius, 0);
+  } else if constexpr (K::capsule) {
+    add(GVec3<S>{S(0), -s.half_height, S(0)}, s.radius, 0);
+    add(GVec3<S>{S(0), s.half_height, S(0)}, s.radius, 1);
+  } else if constexpr (K::polytope) {
+    // Every vertex within reach; beyond 64 of them, the 64 deepest.
+    with_faces(s, [&](face_set<S> const& fs) {
+      constexpr int cap = candidates<S>::capacity;
+      std::array<std::pair<S, std::uint32_t>, cap> deepest{};
+      int nd = 0;
+      for (std::uint32_t i = 0; i < fs.verts.size(); ++i) {
+        S const sep = (pose.transform_point(fs.verts[i]) - o).dot(n);
+        if (sep > S(cfg.prediction)) continue;
+        if (nd < cap) {
+          deepest[std::size_t(nd++)] = {sep, i};
+        } else {
+          std::size_t worst = 0;
+          for (std::size_t k = 1; k < std::size_t(cap); ++k)
+            if (deepest[k].first > deepest[worst].first) worst = k;
+          if (sep < deepest[worst].first) deepest[worst] = {sep, i};
+        }
+      }
+      for (int k = 0; k < nd; ++k)
+        add(fs.verts[deepest[std::size_t(k)].second], S(0), deepest[std::size_t(k)].second);
+      return 0;
+    });
+  } else {
+    GVec3<S> const local = pose.inverse_transform_vector(-n);
+    add(s.core_support(local), s.core_radius(), 0);
+  }
+  m.normal = plane_is_b ? -n : n;
+  reduce_into(c, m.normal, m);
+}
+
+} // namespace detail
+
+/// The contact manifold between shape a (at pose_a) and shape b (at pose_b). See the top of
+/// this header for the conventions and the pairs handled.
+template <ScalarReal S, class A, class B>
+GManifold<S> contact_manifold(A const& a, GIso3<S> const& pose_a, B const& b,
+                              GIso3<S> const& pose_b, ManifoldConfig const& cfg = {}) {
+  using KA = detail::shape_kind<A>;
+  using KB = detail::shape_kind<B>;
+  GManifold<S> m;
+  if (!(pose_a.is_finite() && pose_b.is_finite())) {
+    m.failed = true;
+    return m;
+  }
+  if constexpr (KA::half_space && KB::half_space) {
+    return m; // two half-spaces: no manifold (they always overlap unless parallel)
+  } else if constexpr (KA::half_space) {
+    GVec3<S> const n = pose_a.transform_vector(a.normal);
+    detail::against_plane(n, pose_a.translation, b, pose_b, false, cfg, m);
+    return m;
+  } else if constexpr (KB::half_space) {
+    GVec3<S> const n = pose_b.transform_vector(b.normal);
+    detail::against_plane(n, pose_b.translation, a, pose_a, true, cfg, m);
+    return m;
+  } else {
+    GPenetrationResult<S> const p = penetration(a, pose_a, b, pose_b, cfg.epa);
+    if (p.status == PenetrationStatus::failed) {
+      m.failed = true;
+      return m;
+    }
+    m.normal = p.normal;
+    if (-p.depth > S(cfg.prediction)) return m;
+    S const cos_face = S(cfg.face_alignment);
+    if constexpr (KA::polytope && KB::polytope) {
+      detail::with_faces(a, [&](detail::face_set<S> const& fa) {
+        return detail::with_faces(b, [&](detail::face_set<S> const& fb) {
+          auto const [ia, align_a] = detail::best_face(fa, pose_a, p.normal);
+          auto const [ib, align_b] = detail::best_face(fb, pose_b, -p.normal);
+          if (std::max(align_a, align_b) < cos_face) {
+            detail::single_point(p, m, cfg);
+            return 0;
+          }
+          bool const ref_is_b = align_b > align_a + S(1e-5);
+          if (!ref_is_b) {
+            GVec3<S> const rn = pose_a.transform_vector(fa.faces[ia].normal);
+            auto const inc = detail::best_face(fb, pose_b, -rn).first;
+            detail::clip_faces(fa, pose_a, ia, fb, pose_b, inc, false, S(0), S(0), cfg, m);
+          } else {
+            GVec3<S> const rn = pose_b.transform_vector(fb.faces[ib].normal);
+            auto const inc = detail::best_face(fa, pose_a, -rn).first;
+            detail::clip_faces(fb, pose_b, ib, fa, pose_a, inc, true, S(0), S(0), cfg, m);
+          }
+          if (m.count == 0) // clipping lost everything (a sliver): keep the deepest point
+            detail::single_point(p, m, cfg);
+          return 0;
+        });
+      });
+      return m;
+    } else if constexpr ((KA::capsule && KB::polytope) || (KA::polytope && KB::capsule)) {
+      constexpr bool cap_is_a = KA::capsule;
+      auto const& cap = [&]() -> auto const& {
+        if constexpr (cap_is_a)
+          return a;
+        else
+          return b;
+      }
+      ();
+      auto const& poly = [&]() -> auto const& {
+        if constexpr (cap_is_a)
+          return b;
+        else
+          return a;
+      }
+      ();
+      GIso3<S> const& cap_pose = cap_is_a ? pose_a : pose_b;
+      GIso3<S> const& poly_pose = cap_is_a ? pose_b : pose_a;
+      GVec3<S> const to_poly = cap_is_a ? p.normal : -p.normal; // from the capsule toward it
+      GVec3<S> const p0 = cap_pose.transform_point({S(0), -cap.half_height, S(0)});
+      GVec3<S> const p1 = cap_pose.transform_point({S(0), cap.half_height, S(0)});
+      GVec3<S> const axis = (p1 - p0).normalize_or_zero();
+      detail::with_faces(poly, [&](detail::face_set<S> const& fs) {
+        auto const [f, align] = detail::best_face(fs, poly_pose, -to_poly);
+        S const sin_face = std::sqrt(std::max(S(1) - cos_face * cos_face, S(0)));
+        if (align < cos_face || std::abs(axis.dot(to_poly)) > sin_face || cap.half_height == S(0)) {
+          detail::single_point(p, m, cfg);
+          return 0;
+        }
+        // The polytope's face is the reference: it is B's when the capsule is A.
+        detail::clip_segment(fs, poly_pose, f, p0, p1, cap_is_a, cap.radius, cfg, m);
+        if (m.count == 0) detail::single_point(p, m, cfg);
+        return 0;
+      });
+      return m;
+    } else if constexpr (KA::capsule && KB::capsule) {
+      GVec3<S> const a0 = pose_a.transform_point({S(0), -a.half_height, S(0)});
+      GVec3<S> const a1 = pose_a.transform_point({S(0), a.half_height, S(0)});
+      GVec3<S> const b0 = pose_b.transform_point({S(0), -b.half_height, S(0)});
+      GVec3<S> const b1 = pose_b.transform_point({S(0), b.half_height, S(0)});
+      GVec3<S> const da = a1 - a0, db = b1 - b0;
+      S const la = da.length(), lb = db.length();
+      S const sin_face = std::sqrt(std::max(S(1) - cos_face * cos_face, S(0)));
+      bool const parallel = la > S(0) && lb > S(0) && da.cross(db).length() <= sin_face * la * lb &&
+                            std::abs(da.dot(p.normal)) <= sin_face * la;
+      if (!parallel) {
+        detail::single_point(p, m, cfg);
+        return m;
+      }
+      // B's segment clipped to A's extent along A's axis; each end against A's line.
+      GVec3<S> const ua = da / la;
+      S tb0 = (b0 - a0).dot(ua), tb1 = (b1 - a0).dot(ua);
+      S const lo = std::max(std::min(tb0, tb1), S(0)), hi = std::min(std::max(tb0, tb1), la);
+      if (hi < lo) {
+        detail::single_point(p, m, cfg);
+        return m;
+      }
+      detail::candidates<S> c;
+      S const span = tb1 - tb0;
+      for (int e = 0; e < 2; ++e) {
+        S const t = e == 0 ? lo : hi;
+        S const u = span != S(0) ? (t - tb0) / span : S(0);
+        GVec3<S> const pb = b0 + db * u;
+        GVec3<S> const pa = a0 + ua * t;
+        S const sep = (pb - pa).dot(p.normal) - a.radius - b.radius;
+        if (sep > S(cfg.prediction)) continue;
+        c.add({pa + p.normal * a.radius, pb - p.normal * b.radius, sep,
+               detail::feature_id(false, 0, 0, std::uint32_t(e))});
+      }
+      m.normal = p.normal;
+      detail::reduce_into(c, m.normal, m);
+      if (m.count == 0) detail::single_point(p, m, cfg);
+      return m;
+    } else {
+      detail::single_point(p, m, cfg);
+      return m;
+    }
+  }
+}
+
+using ContactPoint = GContactPoint<float>;
+using Manifold = GManifold<float>;
+
+} // namespace plume

@@ -1,0 +1,302 @@
+// Contact manifolds: boxes resting on boxes (4 points at the right depth), tilted boxes (edge
+// contacts), speculative points, capsules and spheres, half-spaces, triangles, edge-edge
+// contacts, the 4-point reduction, feature ids that persist, and consistent normals when the
+// shapes swap places.
+#include "../math/math_support.hpp"
+
+#include <plume/collision/manifold.hpp>
+
+#include <cmath>
+#include <numbers>
+#include <set>
+#include <vector>
+
+using namespace plume;
+using namespace plume::test;
+
+namespace {
+
+ConvexHull hull_of(std::vector<Vec3> const& pts) {
+  auto built = ConvexHull::build(pts);
+  REQUIRE(built);
+  return std::move(built.hull);
+}
+
+ConvexHull box_hull(Vec3 e) {
+  std::vector<Vec3> p;
+  for (int i = 0; i < 8; ++i)
+    p.push_back({(i & 1) ? e.x : -e.x, (i & 2) ? e.y : -e.y, (i & 4) ? e.z : -e.z});
+  return hull_of(p);
+}
+
+/// Invariants of every manifold: unit normal, at most 4 points, unique ids, points joined by
+/// separation * normal, separations within the prediction distance.
+void check_manifold(Manifold const& m, ManifoldConfig const& cfg = {}) {
+  REQUIRE(m.count <= 4);
+  if (m.count == 0) return;
+  CHECK(std::abs(m.normal.length() - 1) < 1e-5f);
+  std::set<std::uint64_t> ids;
+  for (auto const& c : m) {
+    ids.insert(c.id);
+    CHECK(c.separation <= cfg.prediction + 1e-6f);
+    Vec3 const gap = c.point_b - c.point_a;
+    CHECK((gap - m.normal * c.separation).length() <= 1e-4f);
+  }
+  CHECK(ids.size() == std::size_t(m.count));
+}
+
+Iso3 at(Vec3 t, Quat q = Quat::IDENTITY) { return {q, t}; }
+
+} // namespace
+
+TEST_CASE("manifold: a box resting on a box has 4 points at the depth", "[collision][manifold]") {
+  Cuboid const ground{{5, 1, 5}};
+  Iso3 const ground_pose = at({0, -1, 0}); // top face at y = 0
+  Cuboid const box{{0.5f, 0.5f, 0.5f}};
+  for (float depth : {0.01f, 0.1f}) {
+    auto const m = contact_manifold(box, at({0.3f, 0.5f - depth, -0.2f}), ground, ground_pose);
+    check_manifold(m);
+    REQUIRE(m.count == 4);
+    CHECK(m.normal.y == Approx(-1).margin(1e-6)); // from the box (A) toward the ground (B)
+    for (auto const& c : m) {
+      CHECK(c.separation == Approx(-depth).margin(1e-5));
+      CHECK(std::abs(std::abs(c.point_a.x - 0.3f) - 0.5f) < 1e-5f); // at the corners
+      CHECK(std::abs(std::abs(c.point_a.z + 0.2f) - 0.5f) < 1e-5f);
+      CHECK(c.point_b.y == Approx(0).margin(1e-5)); // on the ground's top face
+    }
+    // The same with both shapes as hulls, and with the roles swapped (normal flips).
+    ConvexHull const hb = box_hull(box.half_extents), hg = box_hull(ground.half_extents);
+    auto const mh = contact_manifold(hb, at({0.3f, 0.5f - depth, -0.2f}), hg, ground_pose);
+    check_manifold(mh);
+    CHECK(mh.count == 4);
+    CHECK(mh.min_separation() == Approx(-depth).margin(1e-5));
+    auto const sw = contact_manifold(ground, ground_pose, box, at({0.3f, 0.5f - depth, -0.2f}));
+    check_manifold(sw);
+    CHECK(sw.count == 4);
+    CHECK(sw.normal.y == Approx(1).margin(1e-6));
+  }
+  // Turned about the vertical: still 4 points, at the turned corners.
+  Quat const turn = Quat::from_rotation_y(0.6f);
+  auto const m = contact_manifold(box, at({0, 0.48f, 0}, turn), ground, ground_pose);
+  check_manifold(m);
+  REQUIRE(m.count == 4);
+  for (auto const& c : m)
+    CHECK(std::hypot(c.point_a.x, c.point_a.z) == Approx(std::sqrt(0.5f)).margin(1e-5));
+  // A small box on a large one's face, the large one as reference: still 4 points.
+  auto const small =
+      contact_manifold(Cuboid{{0.1f, 0.1f, 0.1f}}, at({2, 0.09f, 2}), ground, ground_pose);
+  check_manifold(small);
+  CHECK(small.count == 4);
+}
+
+TEST_CASE("manifold: tilted boxes touch along an edge, edge-edge touches at a point",
+          "[collision][manifold]") {
+  Cuboid const ground{{5, 1, 5}};
+  Iso3 const ground_pose = at({0, -1, 0});
+  Cuboid const box{{0.5f, 0.5f, 0.5f}};
+  // Tilted 30 degrees about z: the lowest edge runs along z, at x = centre - ... and height
+  // (half diagonal in the xy plane) * cos(45 - 30 degrees) above the centre's base.
+  float const tilt = float(std::numbers::pi / 6);
+  float const low = 0.5f * (std::cos(tilt) + std::sin(tilt)); // centre height of the edge
+  float const depth = 0.02f;
+  auto const m = contact_manifold(box, at({0, low - depth, 0}, Quat::from_rotation_z(tilt)), ground,
+                                  ground_pose);
+  check_manifold(m);
+  REQUIRE(m.count == 2);
+  CHECK(m.normal.y == Approx(-1).margin(1e-5));
+  float zs[2];
+  int i = 0;
+  for (auto const& c : m) {
+    CHECK(c.separation == Approx(-depth).margin(1e-5));
+    zs[i++] = c.point_a.z;
+  }
+  CHECK(std::abs(zs[0] - zs[1]) == Approx(1).margin(1e-5)); // both ends of the edge
+  // Tilted about two axes: a single corner touches.
+  Quat const corner = Quat::from_rotation_z(0.5f) * Quat::from_rotation_x(0.4f);
+  Cuboid const b2 = box;
+  // Find the corner height by the support point.
+  Vec3 const lowest = corner * b2.support(corner.inverse() * Vec3{0, -1, 0});
+  auto const mc = contact_manifold(b2, at({0, -lowest.y - 0.01f, 0}, corner), ground, ground_pose);
+  check_manifold(mc);
+  CHECK(mc.count == 1);
+  CHECK(mc.points[0].separation == Approx(-0.01f).margin(1e-5));
+  // Two boxes whose edges cross (one turned 45 degrees about x, the other about y... and
+  // lifted so only the edges meet): one point, normal along the edges' common perpendicular.
+  Quat const qa = Quat::from_rotation_x(float(std::numbers::pi / 4));
+  Quat const qb = Quat::from_rotation_z(float(std::numbers::pi / 4));
+  float const r = 0.5f * std::sqrt(2.0f);
+  auto const ee = contact_manifold(box, at({0, 2 * r - 0.01f, 0}, qa), box, at({0, 0, 0}, qb));
+  check_manifold(ee);
+  REQUIRE(ee.count == 1);
+  CHECK(ee.normal.y == Approx(-1).margin(1e-4));
+  CHECK(ee.points[0].separation == Approx(-0.01f).margin(1e-4));
+}
+
+TEST_CASE("manifold: speculative points, apart, ids that persist", "[collision][manifold]") {
+  Cuboid const ground{{5, 1, 5}};
+  Iso3 const ground_pose = at({0, -1, 0});
+  Cuboid const box{{0.5f, 0.5f, 0.5f}};
+  ManifoldConfig cfg;
+  cfg.prediction = 0.02f;
+  auto const above = contact_manifold(box, at({0, 0.51f, 0}), ground, ground_pose, cfg);
+  check_manifold(above, cfg);
+  CHECK(above.count == 4);
+  CHECK(above.min_separation() == Approx(0.01f).margin(1e-5));
+  auto const far = contact_manifold(box, at({0, 0.53f, 0}), ground, ground_pose, cfg);
+  CHECK(far.count == 0);
+  CHECK(far.normal.y == Approx(-1).margin(1e-5)); // the normal is still reported
+  // Ids: the same features give the same ids after a small move, in any order.
+  auto const m1 = contact_manifold(box, at({0.1f, 0.49f, 0}), ground, ground_pose);
+  auto const m2 = contact_manifold(box, at({0.12f, 0.485f, 0.01f}), ground, ground_pose);
+  std::set<std::uint64_t> ids1, ids2;
+  for (auto const& c : m1)
+    ids1.insert(c.id);
+  for (auto const& c : m2)
+    ids2.insert(c.id);
+  CHECK(ids1 == ids2);
+  CHECK(ids1.size() == 4);
+  // A box overhanging a small ledge: clipped points, with ids that persist too.
+  Cuboid const ledge{{0.3f, 0.5f, 0.3f}};
+  Iso3 const ledge_pose = at({0, -0.5f, 0});
+  auto const c1 = contact_manifold(box, at({0.1f, 0.49f, 0.05f}, Quat::from_rotation_y(0.3f)),
+                                   ledge, ledge_pose);
+  auto const c2 = contact_manifold(box, at({0.11f, 0.488f, 0.05f}, Quat::from_rotation_y(0.31f)),
+                                   ledge, ledge_pose);
+  check_manifold(c1);
+  check_manifold(c2);
+  std::set<std::uint64_t> k1, k2;
+  for (auto const& c : c1)
+    k1.insert(c.id);
+  for (auto const& c : c2)
+    k2.insert(c.id);
+  CHECK(c1.count == 4);
+  CHECK(k1 == k2);
+  // NaN pose: failed, no points.
+  float const nan = std::numeric_limits<float>::quiet_NaN();
+  auto const bad = contact_manifold(box, at({nan, 0, 0}), ground, ground_pose);
+  CHECK(bad.failed);
+  CHECK(bad.count == 0);
+}
+
+TEST_CASE("manifold: spheres and capsules", "[collision][manifold]") {
+  Cuboid const ground{{5, 1, 5}};
+  Iso3 const ground_pose = at({0, -1, 0});
+  // A sphere: one point.
+  auto const sp = contact_manifold(Sphere{0.5f}, at({1, 0.45f, 0}), ground, ground_pose);
+  check_manifold(sp);
+  REQUIRE(sp.count == 1);
+  CHECK(sp.points[0].separation == Approx(-0.05f).margin(1e-5));
+  CHECK(sp.points[0].point_a.y == Approx(-0.05f).margin(1e-5));
+  // A capsule lying down (axis along x): two points at the segment ends.
+  Quat const lie = Quat::from_rotation_z(float(std::numbers::pi / 2));
+  auto const lying =
+      contact_manifold(Capsule{1, 0.25f}, at({0, 0.24f, 0}, lie), ground, ground_pose);
+  check_manifold(lying);
+  REQUIRE(lying.count == 2);
+  for (auto const& c : lying) {
+    CHECK(c.separation == Approx(-0.01f).margin(1e-5));
+    CHECK(std::abs(c.point_a.x) == Approx(1).margin(1e-5));
+  }
+  // ... hanging over the ground's edge: clipped at the edge (x = 5).
+  auto const over =
+      contact_manifold(Capsule{1, 0.25f}, at({5.5f, 0.24f, 0}, lie), ground, ground_pose);
+  check_manifold(over);
+  REQUIRE(over.count == 2);
+  float maxx = -1e9f;
+  for (auto const& c : over)
+    maxx = std::max(maxx, c.point_a.x);
+  CHECK(maxx == Approx(5).margin(1e-5));
+  // Standing: one point.
+  auto const standing = contact_manifold(Capsule{1, 0.25f}, at({0, 1.24f, 0}), ground, ground_pose);
+  check_manifold(standing);
+  CHECK(standing.count == 1);
+  // Ground first: the same contact with the normal flipped.
+  auto const flipped =
+      contact_manifold(ground, ground_pose, Capsule{1, 0.25f}, at({0, 0.24f, 0}, lie));
+  check_manifold(flipped);
+  CHECK(flipped.count == 2);
+  CHECK(flipped.normal.y == Approx(1).margin(1e-5));
+  // Parallel capsules side by side: two points; crossing: one.
+  auto const side =
+      contact_manifold(Capsule{1, 0.3f}, at({0, 0, 0}), Capsule{0.5f, 0.3f}, at({0.55f, 0.7f, 0}));
+  check_manifold(side);
+  REQUIRE(side.count == 2);
+  CHECK(side.normal.x == Approx(1).margin(1e-5));
+  for (auto const& c : side)
+    CHECK(c.separation == Approx(-0.05f).margin(1e-5));
+  auto const crossing =
+      contact_manifold(Capsule{1, 0.3f}, at({0, 0, 0}), Capsule{1, 0.3f}, at({0, 0, 0.55f}, lie));
+  check_manifold(crossing);
+  CHECK(crossing.count == 1);
+}
+
+TEST_CASE("manifold: half-spaces, triangles and the 4-point reduction", "[collision][manifold]") {
+  HalfSpace const floor{{0, 1, 0}};
+  Cuboid const box{{0.5f, 0.5f, 0.5f}};
+  auto const hb = contact_manifold(box, at({0, 0.48f, 0}), floor, Iso3{});
+  check_manifold(hb);
+  REQUIRE(hb.count == 4);
+  CHECK(hb.normal.y == Approx(-1));
+  for (auto const& c : hb)
+    CHECK(c.separation == Approx(-0.02f).margin(1e-5));
+  auto const hf = contact_manifold(floor, Iso3{}, box, at({0, 0.48f, 0}));
+  CHECK(hf.count == 4);
+  CHECK(hf.normal.y == Approx(1));
+  auto const hs = contact_manifold(Sphere{1}, at({0, 0.9f, 0}), floor, Iso3{});
+  CHECK(hs.count == 1);
+  CHECK(hs.points[0].separation == Approx(-0.1f).margin(1e-5));
+  Quat const lie = Quat::from_rotation_z(float(std::numbers::pi / 2));
+  CHECK(contact_manifold(Capsule{1, 0.25f}, at({0, 0.2f, 0}, lie), floor, Iso3{}).count == 2);
+  // A tilted floor (pose rotates the plane) and a cylinder (generic: one point).
+  Iso3 const slope = at({0, 0, 0}, Quat::from_rotation_z(0.3f));
+  auto const cyl = contact_manifold(Cylinder{0.5f, 0.5f}, at({0, 0.4f, 0}), floor, Iso3{});
+  CHECK(cyl.count == 1);
+  auto const sl = contact_manifold(box, at({0, 0.3f, 0}), floor, slope);
+  check_manifold(sl);
+  CHECK(sl.normal.dot(slope.transform_vector({0, -1, 0})) == Approx(1));
+  // A 32-gon disc hull, slightly tilted, on the floor: reduced to 4 points, the deepest kept,
+  // spread over the disc (large area).
+  std::vector<Vec3> disc;
+  for (int k = 0; k < 32; ++k) {
+    float const a = float(2 * std::numbers::pi * k / 32);
+    disc.push_back({std::cos(a), -0.05f, std::sin(a)});
+    disc.push_back({std::cos(a), 0.05f, std::sin(a)});
+  }
+  ConvexHull const puck = hull_of(disc);
+  Iso3 const puck_pose = at({0, 0.04f, 0}, Quat::from_rotation_x(0.01f));
+  auto const pm = contact_manifold(puck, puck_pose, floor, Iso3{});
+  check_manifold(pm);
+  REQUIRE(pm.count == 4);
+  float deepest = 1e9f;
+  for (auto const& v : puck.vertices())
+    deepest = std::min(deepest, puck_pose.transform_point(v).y);
+  CHECK(pm.min_separation() == Approx(deepest).margin(1e-5));
+  // The 4 points span most of the disc: their quadrilateral's area > 1.5 (the disc's is pi).
+  // (The hull area of 4 points in convex position is the largest of the three diagonal
+  // pairings' |d1 x d2| / 2.)
+  auto const& p = pm.points;
+  auto const diag = [&](int a, int b, int c, int d) {
+    return 0.5f * std::abs((p[std::size_t(c)].point_a - p[std::size_t(a)].point_a)
+                               .cross(p[std::size_t(d)].point_a - p[std::size_t(b)].point_a)
+                               .y);
+  };
+  float const area = std::max({diag(0, 1, 2, 3), diag(0, 2, 1, 3), diag(0, 1, 3, 2)});
+  CHECK(area > 1.5f);
+  // ... and the same puck on a box: the reference-face clipping path reduces too.
+  auto const pb = contact_manifold(puck, puck_pose, Cuboid{{5, 1, 5}}, at({0, -1, 0}));
+  check_manifold(pb);
+  CHECK(pb.count == 4);
+  CHECK(pb.min_separation() == Approx(deepest).margin(1e-5));
+  // A box on a large triangle (two-sided: from below too).
+  Triangle const tri{{-5, 0, -5}, {0, 0, 5}, {5, 0, -5}};
+  auto const bt = contact_manifold(box, at({0, 0.49f, 0}), tri, Iso3{});
+  check_manifold(bt);
+  CHECK(bt.count == 4);
+  CHECK(bt.normal.y == Approx(-1).margin(1e-5));
+  auto const below = contact_manifold(box, at({0, -0.49f, 0}), tri, Iso3{});
+  check_manifold(below);
+  CHECK(below.count == 4);
+  CHECK(below.normal.y == Approx(1).margin(1e-5));
+  // A sphere on a triangle's edge region: one point.
+  CHECK(contact_manifold(Sphere{0.5f}, at({0, 0.45f, 0}), tri, Iso3{}).count == 1);
+}
