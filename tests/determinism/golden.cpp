@@ -9,6 +9,7 @@
 // every wide type must hash like the scalar one (lane-exactness); tests/determinism/golden.txt
 // holds the expected lines. After an intended change of results, regenerate it with
 // `plume_golden > tests/determinism/golden.txt` and say why in the commit.
+#include <plume/collision.hpp>
 #include <plume/numerics.hpp>
 #include <plume/solver.hpp>
 
@@ -214,6 +215,151 @@ std::uint64_t solver_battery() {
   return h.h;
 }
 
+/// A fixed stream of numbers in [-1, 1] (from inputs(), skipping its special values).
+struct stream {
+  std::vector<double> r = inputs<double>(1);
+  std::size_t at = 0;
+  double next() {
+    double x;
+    do
+      x = r[at++ % 4000];
+    while (!(std::abs(x) <= 1));
+    return x;
+  }
+  template <class S>
+  GVec3<S> vec3(double scale) {
+    double const x = next(), y = next(), z = next(); // separate: operand order is unspecified
+    return {S(x * scale), S(y * scale), S(z * scale)};
+  }
+  template <class S>
+  GQuat<S> quat() {
+    double q[4], n;
+    do {
+      n = 0;
+      for (auto& c : q) {
+        c = next();
+        n += c * c;
+      }
+      n = std::sqrt(n);
+    } while (n < 0.1 || n > 1);
+    return {S(q[0] / n), S(q[1] / n), S(q[2] / n), S(q[3] / n)};
+  }
+};
+
+/// The wide collision queries on 256 fixed problems: GJK closest points (capsule vs hull),
+/// shape casts (sphere vs hull), GJK ray casts (hull) and the closed-form ray casts; lanes
+/// hold different hulls (packed), poses, sizes and rays.
+template <class T>
+std::uint64_t collision_battery() {
+  using S = scalar_t<T>;
+  constexpr std::size_t L = lanes_v<T>, P = 256, V = 12;
+  fnv h;
+  stream st;
+  std::vector<GVec3<S>> hull_pts(P * V);
+  std::vector<GIso3<S>> pa(P), pb(P);
+  std::vector<GVec3<S>> motion(P), origin(P), dir(P), ext(P);
+  std::vector<S> radius(P), hh(P);
+  for (std::size_t p = 0; p < P; ++p) {
+    std::vector<GVec3<S>> pts;
+    for (std::size_t k = 0; k < V; ++k)
+      pts.push_back(st.vec3<S>(1));
+    auto const built = GConvexHull<S>::build(pts);
+    auto const hv = built.hull.vertices();
+    for (std::size_t k = 0; k < V; ++k)
+      hull_pts[p * V + k] = hv[k < hv.size() ? k : hv.size() - 1];
+    GQuat<S> const qa = st.quat<S>();
+    pa[p] = {qa, st.vec3<S>(3)};
+    GQuat<S> const qb = st.quat<S>();
+    pb[p] = {qb, st.vec3<S>(1)};
+    motion[p] = st.vec3<S>(4);
+    origin[p] = st.vec3<S>(4);
+    dir[p] = st.vec3<S>(1);
+    ext[p] = st.vec3<S>(1).abs();
+    radius[p] = S(std::abs(st.next()));
+    hh[p] = S(std::abs(st.next()));
+  }
+  for (std::size_t g = 0; g < P; g += L) {
+    std::vector<GVec3<T>> verts(V);
+    GIso3<T> wa, wb;
+    GVec3<T> wm, wo, wd, we;
+    T wr{}, wh{};
+    for (std::size_t l = 0; l < L; ++l) {
+      for (std::size_t k = 0; k < V; ++k)
+        verts[k] = with_lane(verts[k], l, hull_pts[(g + l) * V + k]);
+      wa = with_lane(wa, l, pa[g + l]), wb = with_lane(wb, l, pb[g + l]);
+      wm = with_lane(wm, l, motion[g + l]), wo = with_lane(wo, l, origin[g + l]);
+      wd = with_lane(wd, l, dir[g + l]), we = with_lane(we, l, ext[g + l]);
+      wr = with_lane(wr, l, radius[g + l]), wh = with_lane(wh, l, hh[g + l]);
+    }
+    GConvexPolytope<T> const hull{verts};
+    auto const cp = closest_points(GCapsule<T>{wh, wr}, wa, hull, wb);
+    ShapeCastConfig cfg;
+    cfg.max_toi = 2;
+    auto const sc = shape_cast(GSphere<T>{wr}, wa, wm, hull, wb, cfg);
+    GRay3<T> const ray{wo, wd};
+    T const inf = infinity<T>();
+    auto const rg = ray_cast_gjk(hull, wb, ray, inf);
+    auto const r1 = ray_cast(GCapsule<T>{wh, wr}, wb, ray, inf);
+    auto const r2 = ray_cast(GCuboid<T>{we}, wb, ray, inf, false);
+    auto const r3 = ray_cast(GCylinder<T>{wh, wr}, wb, ray, inf);
+    auto const r4 = ray_cast_local(GTriangle<T>{verts[0], verts[1], verts[2]}, ray, inf);
+    for (std::size_t l = 0; l < L; ++l) {
+      auto add3 = [&](GVec3<T> const& a) {
+        auto const x = lane(a, l);
+        h.add(x.x), h.add(x.y), h.add(x.z);
+      };
+      h.add(lane(cp.distance, l)), add3(cp.point_a), add3(cp.normal), h.add(lane(cp.iterations, l));
+      h.add(lane(sc.toi, l)), add3(sc.normal), add3(sc.point_b);
+      for (auto const* r : {&rg, &r1, &r2, &r3, &r4})
+        h.add(lane(r->toi, l)), add3(r->normal);
+    }
+  }
+  return h.h;
+}
+
+/// The scalar collision pieces: quickhull, mass properties, EPA and manifolds on 128 fixed
+/// pairs.
+template <class S>
+std::uint64_t contact_battery() {
+  fnv h;
+  stream st;
+  auto add3 = [&](GVec3<S> const& x) { h.add(x.x), h.add(x.y), h.add(x.z); };
+  for (int p = 0; p < 128; ++p) {
+    std::vector<GVec3<S>> pa, pb;
+    for (int k = 0; k < 8 + p % 20; ++k)
+      pa.push_back(st.vec3<S>(1));
+    for (int k = 0; k < 6 + p % 13; ++k)
+      pb.push_back(st.vec3<S>(0.7));
+    auto const ha = GConvexHull<S>::build(pa), hb = GConvexHull<S>::build(pb);
+    for (auto const* b : {&ha, &hb}) {
+      h.add(S(b->hull.faces().size()));
+      for (auto const& v : b->hull.vertices())
+        add3(v);
+      auto const mp = b->hull.mass_properties(S(2));
+      h.add(mp.mass), add3(mp.center), add3(mp.inertia.x_axis), add3(mp.inertia.y_axis);
+    }
+    GQuat<S> const qa = st.quat<S>();
+    GIso3<S> const posa{qa, st.vec3<S>(0.8)};
+    GQuat<S> const qb = st.quat<S>();
+    GIso3<S> const posb{qb, st.vec3<S>(0.8)};
+    auto const pen = penetration(ha.hull, posa, hb.hull, posb);
+    h.add(pen.depth), add3(pen.normal), add3(pen.point_a), h.add(S(pen.iterations));
+    auto const m1 = contact_manifold(GCuboid<S>{pa[0].abs() + GVec3<S>::splat(S(0.2))}, posa,
+                                     GCuboid<S>{pb[0].abs() + GVec3<S>::splat(S(0.2))}, posb);
+    auto const m2 = contact_manifold(GCapsule<S>{S(0.5), S(0.2)}, posa, hb.hull, posb);
+    auto const m3 = contact_manifold(ha.hull, posa, GHalfSpace<S>{GVec3<S>::Y}, posb);
+    for (auto const* m : {&m1, &m2, &m3}) {
+      add3(m->normal);
+      h.add(S(m->count));
+      for (auto const& c : *m) {
+        add3(c.point_a), add3(c.point_b), h.add(c.separation);
+        h.add(S(double(c.id % 1000003)));
+      }
+    }
+  }
+  return h.h;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -274,6 +420,30 @@ int main(int argc, char** argv) {
         solver_battery<f64x8>(),
 #endif
   });
+  record("collision_f32", collision_battery<float>(), {
+#if PLUME_HAS_BATCHES
+    collision_battery<f32x4>(),
+#endif
+#if PLUME_HAS_AVX2
+        collision_battery<f32x8>(),
+#endif
+#if PLUME_HAS_AVX512
+        collision_battery<f32x16>(),
+#endif
+  });
+  record("collision_f64", collision_battery<double>(), {
+#if PLUME_HAS_BATCHES
+    collision_battery<f64x2>(),
+#endif
+#if PLUME_HAS_AVX2
+        collision_battery<f64x4>(),
+#endif
+#if PLUME_HAS_AVX512
+        collision_battery<f64x8>(),
+#endif
+  });
+  record("contact_f32", contact_battery<float>(), {});
+  record("contact_f64", contact_battery<double>(), {});
   if (argc == 3 && !std::strcmp(argv[1], "--check")) {
     std::ifstream f(argv[2]);
     std::string name, hex;

@@ -391,13 +391,13 @@ GMassProperties<S> detail_hull_builder::mass(GConvexHull<S> const& h, S density)
       vol += det / 6.0;
       first = first + (a + bb + c) * (det / 24.0);
       double const A[3][3] = {{a.x, bb.x, c.x}, {a.y, bb.y, c.y}, {a.z, bb.z, c.z}};
-      for (int p = 0; p < 3; ++p)
-        for (int q = 0; q < 3; ++q) {
-          double s = 0;
+      for (int r0 = 0; r0 < 3; ++r0)
+        for (int r1 = 0; r1 < 3; ++r1) {
+          double sum = 0;
           for (int m = 0; m < 3; ++m)
             for (int l = 0; l < 3; ++l)
-              s += A[p][m] * (m == l ? 2.0 : 1.0) * A[q][l];
-          cov[p][q] += det * s / 120.0;
+              sum += A[r0][m] * (m == l ? 2.0 : 1.0) * A[r1][l];
+          cov[r0][r1] += det * sum / 120.0;
         }
     }
   }
@@ -405,12 +405,12 @@ GMassProperties<S> detail_hull_builder::mass(GConvexHull<S> const& h, S density)
   // Covariance about the centre of mass, then inertia = trace(C) E - C, times density.
   double cc[3][3];
   double const cmv[3] = {cm.x, cm.y, cm.z};
-  for (int p = 0; p < 3; ++p)
-    for (int q = 0; q < 3; ++q)
-      cc[p][q] = cov[p][q] - vol * cmv[p] * cmv[q];
+  for (int r0 = 0; r0 < 3; ++r0)
+    for (int r1 = 0; r1 < 3; ++r1)
+      cc[r0][r1] = cov[r0][r1] - vol * cmv[r0] * cmv[r1];
   double const tr = cc[0][0] + cc[1][1] + cc[2][2];
   double const rho = double(density);
-  auto const I = [&](int p, int q) { return S(rho * ((p == q ? tr : 0.0) - cc[p][q])); };
+  auto const I = [&](int r0, int r1) { return S(rho * ((r0 == r1 ? tr : 0.0) - cc[r0][r1])); };
   D3 const centre = r + cm;
   return {S(rho * vol), GVec3<S>{S(centre.x), S(centre.y), S(centre.z)},
           GMat3<S>::from_symmetric(I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2))};
