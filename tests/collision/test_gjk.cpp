@@ -415,6 +415,78 @@ TEST_CASE("GJK ray casts agree with the closed forms", "[collision][gjk][ray]") 
           .toi == Approx(4).margin(1e-4));
 }
 
+TEST_CASE("GJK family: far coordinates, degenerate shapes, starting on the surface",
+          "[collision][gjk]") {
+  // Far from the origin: two unit boxes 0.5 apart at 1e4, 1e5, 1e6. Float resolves
+  // coordinates there to ulp(x); the answers must be within a few ulps, and never hang.
+  for (float far : {1e4f, 1e5f, 1e6f}) {
+    float const ulp = std::nextafter(far, 2 * far) - far;
+    Vec3 const at{far, -far, far};
+    auto const cp = closest_points(Cuboid{{1, 1, 1}}, Iso3::from_translation(at), Cuboid{{1, 1, 1}},
+                                   Iso3::from_translation(at + Vec3{2.5f, 0.3f, 0}));
+    INFO("at " << far);
+    CHECK(cp.converged);
+    CHECK(std::abs(cp.distance - 0.5f) <= 4 * ulp);
+    ShapeCastConfig cfg;
+    cfg.max_toi = 1;
+    auto const sc =
+        shape_cast(Sphere{1}, Iso3::from_translation(at), Vec3{10, 0, 0}, Cuboid{{1, 1, 1}},
+                   Iso3::from_translation(at + Vec3{5, 0.5f, 0}), cfg);
+    CHECK(sc.hit);
+    CHECK(!sc.out_of_iterations);
+    CHECK(std::abs(sc.toi * 10 - 3) <= 8 * ulp);
+    auto const rc = ray_cast_gjk(box_hull({1, 1, 1}), Iso3::from_translation(at),
+                                 Ray3{at + Vec3{-5, 0.2f, 0.1f}, {1, 0, 0}}, 100.0f);
+    CHECK(rc.hit);
+    CHECK(std::abs(rc.toi - 4) <= 8 * ulp);
+  }
+  // Degenerate shapes: a point box, a zero-height capsule (a sphere), a zero-radius sphere (a
+  // point), segments, a collinear triangle.
+  Iso3 const here{}, there = Iso3::from_translation({3, 4, 0});
+  CHECK(closest_points(Cuboid{{0, 0, 0}}, here, Sphere{1}, there).distance == Approx(4));
+  CHECK(closest_points(Capsule{0, 1}, here, Sphere{1}, there).distance == Approx(3));
+  CHECK(closest_points(Sphere{0}, here, Sphere{0}, there).distance == Approx(5));
+  CHECK(closest_points(Cuboid{{1, 0, 1}}, here, Sphere{1}, Iso3::from_translation({0, 3, 0}))
+            .distance == Approx(2)); // a flat box
+  rng r(12);
+  for (int k = 0; k < 200; ++k) {
+    Segment const s1{r.vec3<float>(-2, 2), r.vec3<float>(-2, 2)};
+    Segment const s2{r.vec3<float>(-2, 2), r.vec3<float>(-2, 2)};
+    double const want =
+        std::sqrt(segment_distance2(to_d(s1.a), to_d(s1.b), to_d(s2.a), to_d(s2.b)));
+    auto const cp = closest_points(s1, here, s2, here);
+    if (want < 1e-3) {
+      CHECK(cp.distance <= 2e-3f);
+      continue;
+    }
+    CHECK(cp.distance == Approx(want).margin(2e-5));
+  }
+  Triangle const flat{{0, 0, 0}, {1, 1, 1}, {2, 2, 2}}; // collinear: a segment
+  CHECK(closest_points(flat, here, Sphere{0}, Iso3::from_translation({1, 1, 2})).distance ==
+        Approx(std::sqrt(2.0 / 3.0)).margin(1e-5));
+  // A shape cast starting exactly in contact, moving in and moving out.
+  ShapeCastConfig cfg;
+  auto const in = shape_cast(Sphere{1}, Iso3::from_translation({2, 0, 0}), Vec3{-1, 0, 0},
+                             Cuboid{{1, 1, 1}}, here, cfg);
+  CHECK(in.hit);
+  CHECK(in.toi == 0);
+  CHECK(in.penetrating);
+  cfg.stop_at_penetration = false;
+  auto const out = shape_cast(Sphere{1}, Iso3::from_translation({2, 0, 0}), Vec3{1, 0, 0},
+                              Cuboid{{1, 1, 1}}, here, cfg);
+  CHECK(!out.hit);
+  // A GJK ray cast starting on the surface: solid hits at 0 going in, misses going out.
+  ConvexHull const box = box_hull({1, 1, 1});
+  auto const on_in = ray_cast_gjk(box, here, Ray3{{1, 0.5f, 0}, {-1, 0, 0}}, 10.0f);
+  CHECK(on_in.hit);
+  CHECK(on_in.toi == 0);
+  auto const on_out = ray_cast_gjk(box, here, Ray3{{1, 0.5f, 0}, {1, 0, 0}}, 10.0f);
+  CHECK((!on_out.hit || on_out.toi == 0)); // touching at the start counts as a hit at 0
+  // A grazing ray along a face at distance 0 hits; 1e-3 outside misses.
+  CHECK(ray_cast_gjk(box, here, Ray3{{-5, 1, 0}, {1, 0, 0}}, 10.0f).hit);
+  CHECK(!ray_cast_gjk(box, here, Ray3{{-5, 1.001f, 0}, {1, 0, 0}}, 10.0f).hit);
+}
+
 #if PLUME_HAS_BATCHES
 TEMPLATE_LIST_TEST_CASE("GJK queries are lane-exact", "[collision][gjk][lanes]", wide_real_types) {
   using T = TestType;
