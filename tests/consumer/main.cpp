@@ -61,7 +61,34 @@ int main() {
   bool const ray_ok =
       plume::all(hit.hit) && lane(hit.toi, 0) == 4.75f && lane(hit.normal, 0).x == -1;
   std::printf("consumer: ray toi %g\n", lane(hit.toi, 0));
-  return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok && solver_ok && ray_ok)
+  // The README's hull / GJK / EPA / manifold example: a 2 m cube of rock at x = 5, a capsule
+  // at the origin moving 10 m along +x, a crate overlapping the rock by 0.1 m.
+  std::vector<Vec3> points;
+  for (int i = 0; i < 8; ++i)
+    points.push_back({(i & 1) ? 1.0f : -1.0f, (i & 2) ? 1.0f : -1.0f, (i & 4) ? 1.0f : -1.0f});
+  points.push_back({0, 0, 0}); // inside: dropped
+  auto built = ConvexHull::build(points);
+  if (!built) std::puts(to_string(built.error));
+  ConvexHull const& rock = built.hull;
+  MassProperties const mass = rock.mass_properties(2500.0f);
+  Iso3 const rock_pose = Iso3::from_translation({5, 0, 0}), player{},
+             crate = Iso3::from_translation({3.6f, 0, 0});
+  Vec3 const motion{10, 0, 0};
+  ClosestPoints const d = closest_points(Capsule{0.9f, 0.3f}, player, rock, rock_pose);
+  ShapeCastConfig cast;
+  cast.target_distance = 0.01f;
+  ShapeCastHit const sweep = shape_cast(Capsule{0.9f, 0.3f}, player, motion, rock, rock_pose, cast);
+  PenetrationResult const p = penetration(Cuboid{{0.5f, 0.5f, 0.5f}}, crate, rock, rock_pose);
+  Manifold const m = contact_manifold(Cuboid{{0.5f, 0.5f, 0.5f}}, crate, rock, rock_pose);
+  bool const contact_ok = built && rock.faces().size() == 6 && std::abs(mass.mass - 20000) < 1 &&
+                          std::abs(d.distance - 3.7f) < 1e-4f && sweep.hit &&
+                          std::abs(sweep.toi - 0.369f) < 1e-4f &&
+                          std::abs(p.depth - 0.1f) < 1e-4f && m.count == 4 &&
+                          std::abs(m.min_separation() + 0.1f) < 1e-4f;
+  std::printf("consumer: hull %zu faces, mass %g, distance %g, toi %g, depth %g, %d contacts\n",
+              rock.faces().size(), mass.mass, d.distance, sweep.toi, p.depth, m.count);
+  return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok && solver_ok &&
+          ray_ok && contact_ok)
              ? 0
              : 1;
 }
