@@ -228,38 +228,52 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCuboid<T> const& box, GRay3<T> const& ra
   return detail::with_normal(h, axis(ys, zs, flip * sgn(d.x), flip * sgn(d.y), flip * sgn(d.z)));
 }
 
-/// Capsule (local frame: radius r around the segment (0, -h, 0) - (0, h, 0)): the first
-/// entry into the union of the side (an infinite cylinder clipped to |y| <= h) and the two
-/// end spheres, which is the entry into the capsule; the exit likewise.
+/// Capsule (local frame: radius r around the segment (0, -h, 0) - (0, h, 0)). The capsule
+/// lies inside the infinite cylinder of radius r, so its entry is the cylinder's entry when
+/// that point is within |y| <= h, and otherwise the entry into the end sphere on that side
+/// (the one facing the ray for a ray along the axis, which misses the side); the exit
+/// likewise. One end sphere per crossing instead of both: a solid cast from outside needs
+/// only the entry (the origin is outside a convex set, so the entry is ahead iff tin >= 0).
 template <Real T>
 PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& ray, T max_toi,
                                        bool solid = true) noexcept {
   using V = GVec3<T>;
   V const& o = ray.origin;
   V const& d = ray.dir;
-  T const z = zero<T>(), inf = infinity<T>(), h = cap.half_height, r = cap.radius;
-  V const top{z, h, z};
+  T const z = zero<T>(), h = cap.half_height, r = cap.radius;
   auto const side = detail::quadric_roots<true>(o, d, r);
-  auto const upper = detail::sphere_part(o - top, d, r);
-  auto const lower = detail::sphere_part(o + top, d, r);
-  auto const within = [&](T t) { return plume::abs(o.y + d.y * t) <= h; };
-  auto const side_in = side.ok & within(side.tin), side_out = side.ok & within(side.tout);
-  // Earliest entry and latest exit over the parts.
-  T tin = plume::select(side_in, side.tin, inf);
-  T tout = plume::select(side_out, side.tout, -inf);
-  for (auto const* part : {&upper, &lower}) {
-    tin = plume::select(part->ok & (part->tin < tin), part->tin, tin);
-    tout = plume::select(part->ok & (part->tout > tout), part->tout, tout);
+  auto const axial = (d.x == z) & (d.z == z);
+  // The centre height of the end sphere crossed: on the side of the cylinder's crossing, or
+  // for a ray along the axis the end facing the ray (entering) or away from it (leaving).
+  auto const end_crossed = [&](T t_side, bool entering) {
+    T const y = o.y + d.y * t_side;
+    T const facing = plume::select(d.y < z, h, -h);
+    return plume::select(axial, entering ? facing : -facing, plume::select(y < z, -h, h));
+  };
+  auto const on_side = [&](T t_side) { return side.ok & (plume::abs(o.y + d.y * t_side) <= h); };
+  mask_t<T> const reach = side.ok | axial;
+  T const ein = end_crossed(side.tin, true);
+  auto const sphere_in = detail::sphere_part(V{o.x, o.y - ein, o.z}, d, r);
+  mask_t<T> const side_in = on_side(side.tin);
+  detail::ray_interval<T> iv;
+  iv.tin = plume::select(side_in, side.tin, sphere_in.tin);
+  iv.ok = reach & (side_in | sphere_in.ok);
+  iv.tout = iv.tin; // a solid cast from outside: the exit is not needed (see above)
+  if (!solid) {
+    T const eout = end_crossed(side.tout, false);
+    auto const sphere_out = detail::sphere_part(V{o.x, o.y - eout, o.z}, d, r);
+    mask_t<T> const side_out = on_side(side.tout);
+    iv.tout = plume::select(side_out, side.tout, sphere_out.tout);
+    iv.ok = iv.ok & (side_out | sphere_out.ok);
   }
-  mask_t<T> const meets = tin <= tout;
-  detail::ray_interval<T> iv{meets, tin, tout};
   T const cy = plume::clamp(o.y, -h, h);
   auto const inside = (V{o.x, o.y - cy, o.z}.length_squared() <= r * r);
   auto const hit = detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
-  // The outward normal at a point: away from the nearest point of the segment.
+  // The outward normal (p - nearest point of the segment) / r; a zero radius has none.
   V const p = ray.at(hit.toi);
-  return detail::with_normal(hit,
-                             detail::unit_or_zero(V{p.x, p.y - plume::clamp(p.y, -h, h), p.z}));
+  T const inv_r = one<T>() / r;
+  V const n = V::select(r > z, V{p.x, p.y - plume::clamp(p.y, -h, h), p.z} * inv_r, V{});
+  return detail::with_normal(hit, n);
 }
 
 /// Cylinder (local frame: radius r around Y, caps at y = +-h): the intersection of the
