@@ -8,6 +8,8 @@
 // vertices (triangle: the corners of the box's axes around the centre).
 #include <plume/collision.hpp>
 
+#include "../bench_support.hpp"
+
 #include <benchmark/benchmark.h>
 
 #include <random>
@@ -77,9 +79,7 @@ struct packed {
 
 template <class F>
 void run(benchmark::State& st, F&& f) {
-  for (auto _ : st)
-    f();
-  st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(N));
+  plume::bench::run_items(st, std::int64_t(N), f);
 }
 
 template <class T>
@@ -142,19 +142,6 @@ void register_width() {
 } // namespace
 
 int main(int argc, char** argv) {
-  register_width<float>();
-#if PLUME_HAS_BATCHES
-  register_width<plume::f32x4>();
-#endif
-#if PLUME_HAS_AVX2
-  register_width<plume::f32x8>();
-#endif
-#if PLUME_HAS_AVX512
-  register_width<plume::f32x16>();
-#endif
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  plume::bench::for_each_f32_width([]<class T>() { register_width<T>(); });
+  return plume::bench::run_benchmarks(argc, argv);
 }

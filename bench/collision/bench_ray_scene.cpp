@@ -11,6 +11,8 @@
 //               built once, outside the timing. Built only when libembree-dev is installed.
 #include <plume/collision.hpp>
 
+#include "../bench_support.hpp"
+
 #include <benchmark/benchmark.h>
 
 #if PLUME_HAVE_EMBREE
@@ -177,23 +179,10 @@ void register_embree(std::size_t n) {
 
 int main(int argc, char** argv) {
   for (std::size_t n : {16, 64, 256}) {
-    register_plume<float>(n);
-#if PLUME_HAS_BATCHES
-    register_plume<plume::f32x4>(n);
-#endif
-#if PLUME_HAS_AVX2
-    register_plume<plume::f32x8>(n);
-#endif
-#if PLUME_HAS_AVX512
-    register_plume<plume::f32x16>(n);
-#endif
+    plume::bench::for_each_f32_width([n]<class T>() { register_plume<T>(n); });
 #if PLUME_HAVE_EMBREE
     register_embree(n);
 #endif
   }
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return plume::bench::run_benchmarks(argc, argv);
 }

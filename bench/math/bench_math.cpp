@@ -8,8 +8,10 @@
 // so x1 is one item at a time for every library.
 #include <plume/math.hpp>
 
+#include "../bench_support.hpp"
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
+
 #include <benchmark/benchmark.h>
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -322,9 +324,5 @@ int main(int argc, char** argv) {
 #if PLUME_HAS_AVX2
   if (!intrinsics_agree()) return 1;
 #endif
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return plume::bench::run_benchmarks(argc, argv);
 }

@@ -18,7 +18,9 @@
 // bench/report.py reads the JSON output and prints the ratios to plume x1.
 #include <plume/numerics.hpp>
 
+#include "../bench_support.hpp"
 #include <Eigen/Core>
+
 #include <benchmark/benchmark.h>
 #include <sleef.h>
 
@@ -327,9 +329,5 @@ void register_all() {
 
 int main(int argc, char** argv) {
   register_all();
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return plume::bench::run_benchmarks(argc, argv);
 }

@@ -9,6 +9,8 @@
 // (scalar k = 8 ran at 13.6M/s instead of 5.6M/s), which no game's fresh contacts allow.
 #include <plume/solver.hpp>
 
+#include "../bench_support.hpp"
+
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -90,9 +92,7 @@ packed<T> pack(problems const& p, int k) {
 
 template <class F>
 void run(benchmark::State& st, F&& f) {
-  for (auto _ : st)
-    f();
-  st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(P));
+  plume::bench::run_items(st, std::int64_t(P), f);
 }
 
 template <class T>
@@ -161,20 +161,7 @@ void print_steps() {
 
 int main(int argc, char** argv) {
   print_steps();
-  register_width<float>();
-#if PLUME_HAS_BATCHES
-  register_width<plume::f32x4>();
-#endif
-#if PLUME_HAS_AVX2
-  register_width<plume::f32x8>();
-#endif
-#if PLUME_HAS_AVX512
-  register_width<plume::f32x16>();
-#endif
+  plume::bench::for_each_f32_width([]<class T>() { register_width<T>(); });
   register_bruteforce();
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  benchmark::RunSpecifiedBenchmarks();
-  benchmark::Shutdown();
-  return 0;
+  return plume::bench::run_benchmarks(argc, argv);
 }

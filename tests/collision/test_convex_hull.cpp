@@ -2,7 +2,7 @@
 // symmetric adjacency, convex faces), robustness to duplicate, coplanar and nearly coplanar
 // points, the build errors, and mass properties against closed forms, slice integration and
 // the parallel axis theorem.
-#include "../math/math_support.hpp"
+#include "collision_support.hpp"
 
 #include <plume/collision/convex_hull.hpp>
 #include <plume/collision/shapes.hpp>
@@ -17,13 +17,6 @@ using namespace plume::test;
 
 namespace {
 constexpr double kpi = std::numbers::pi;
-
-std::vector<Vec3> box_points(Vec3 e) {
-  std::vector<Vec3> p;
-  for (int i = 0; i < 8; ++i)
-    p.push_back({(i & 1) ? e.x : -e.x, (i & 2) ? e.y : -e.y, (i & 4) ? e.z : -e.z});
-  return p;
-}
 
 /// Every structural property a hull must have; all input points inside or on it.
 void check_hull(ConvexHull const& h, std::span<Vec3 const> input) {
@@ -266,20 +259,10 @@ TEMPLATE_LIST_TEST_CASE("wide polytopes and mass properties are lane-exact",
   using S = scalar_t<T>;
   rng r(8);
   // lanes_v<T> hulls of different sizes packed into one wide polytope.
-  std::vector<GConvexHull<S>> hulls;
-  for (std::size_t i = 0; i < lanes_v<T>; ++i) {
-    std::vector<GVec3<S>> pts;
-    for (std::size_t k = 0; k < 6 + 3 * i; ++k)
-      pts.push_back(r.unit3<S>() * S(1 + 0.1 * double(i)));
-    auto built = GConvexHull<S>::build(pts);
-    REQUIRE(built);
-    hulls.push_back(std::move(built.hull));
-  }
-  std::vector<std::span<GVec3<S> const>> views;
-  for (auto const& h : hulls)
-    views.push_back(h.vertices());
-  auto const packed = pack_polytopes<T>(views);
-  GConvexPolytope<T> const wide{packed};
+  packed_hulls<T> const ph([](std::size_t i) { return 6 + 3 * i; },
+                           [&](std::size_t i) { return r.unit3<S>() * S(1 + 0.1 * double(i)); });
+  auto const& hulls = ph.hulls;
+  GConvexPolytope<T> const wide = ph.wide();
   for (int k = 0; k < 100; ++k) {
     GVec3<T> const d = r.vec3<T>(-1, 1);
     GVec3<T> const w = wide.support(d);

@@ -2,7 +2,7 @@
 // polytopes (the minimum overlap over face normals and edge-edge cross products, in double),
 // against closed forms for spheres inside boxes and rounded shapes, the flat fallbacks, and
 // the minimum translation property (moving by depth * normal makes the shapes touch).
-#include "../math/math_support.hpp"
+#include "collision_support.hpp"
 
 #include <plume/collision/convex_hull.hpp>
 #include <plume/collision/epa.hpp>
@@ -17,9 +17,6 @@ using namespace plume::test;
 
 namespace {
 
-using D3 = GVec3<double>;
-D3 to_d(Vec3 v) { return {v.x, v.y, v.z}; }
-
 struct sat_result {
   double depth; // minimum overlap over the axes
   D3 axis;      // unit, from A toward B
@@ -27,13 +24,7 @@ struct sat_result {
 
 /// SAT over the face normals and edge-edge cross products of two hulls at poses.
 sat_result sat(ConvexHull const& a, Iso3 const& pa, ConvexHull const& b, Iso3 const& pb) {
-  auto world = [](ConvexHull const& h, Iso3 const& p) {
-    std::vector<D3> out;
-    for (Vec3 const& v : h.vertices())
-      out.push_back(to_d(p.transform_point(v)));
-    return out;
-  };
-  auto const va = world(a, pa), vb = world(b, pb);
+  auto const va = world_vertices(a, pa), vb = world_vertices(b, pb);
   std::vector<D3> axes;
   for (auto const& f : a.faces())
     axes.push_back(to_d(pa.transform_vector(f.normal)));
@@ -58,19 +49,6 @@ sat_result sat(ConvexHull const& a, Iso3 const& pa, ConvexHull const& b, Iso3 co
     if (down < best.depth) best = {down, n * -1.0};
   }
   return best;
-}
-
-ConvexHull hull_of(std::vector<Vec3> const& pts) {
-  auto built = ConvexHull::build(pts);
-  REQUIRE(built);
-  return std::move(built.hull);
-}
-
-ConvexHull box_hull(Vec3 e) {
-  std::vector<Vec3> p;
-  for (int i = 0; i < 8; ++i)
-    p.push_back({(i & 1) ? e.x : -e.x, (i & 2) ? e.y : -e.y, (i & 4) ? e.z : -e.z});
-  return hull_of(p);
 }
 
 } // namespace

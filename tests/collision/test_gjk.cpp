@@ -2,7 +2,7 @@
 // and capsules, feature-pair brute force for polytopes), shape casts against closed forms up
 // to 1,000 m targets, GJK ray casts against the closed-form casts, bad input, warm starts and
 // lane-exactness of every wide query.
-#include "../math/math_support.hpp"
+#include "collision_support.hpp"
 
 #include <plume/collision/convex_hull.hpp>
 #include <plume/collision/gjk.hpp>
@@ -18,9 +18,6 @@ using namespace plume;
 using namespace plume::test;
 
 namespace {
-
-using D3 = GVec3<double>;
-D3 to_d(Vec3 v) { return {v.x, v.y, v.z}; }
 
 /// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5).
 D3 closest_on_triangle(D3 p, D3 a, D3 b, D3 c) {
@@ -73,13 +70,7 @@ double segment_distance2(D3 p1, D3 q1, D3 p2, D3 q2) {
 /// Distance between two separated convex polytopes given as hulls at poses: the minimum over
 /// vertex-face, face-vertex and edge-edge feature pairs, in double.
 double polytope_distance(ConvexHull const& a, Iso3 const& pa, ConvexHull const& b, Iso3 const& pb) {
-  auto world = [](ConvexHull const& h, Iso3 const& p) {
-    std::vector<D3> out;
-    for (Vec3 const& v : h.vertices())
-      out.push_back(to_d(p.transform_point(v)));
-    return out;
-  };
-  auto const va = world(a, pa), vb = world(b, pb);
+  auto const va = world_vertices(a, pa), vb = world_vertices(b, pb);
   double best = std::numeric_limits<double>::infinity();
   auto faces_vs_points = [&](ConvexHull const& h, std::vector<D3> const& hv,
                              std::vector<D3> const& pts) {
@@ -104,18 +95,7 @@ ConvexHull random_hull(rng& r, int n, float size) {
   std::vector<Vec3> pts;
   for (int k = 0; k < n; ++k)
     pts.push_back(r.vec3<float>(-1, 1) * size);
-  auto built = ConvexHull::build(pts);
-  REQUIRE(built);
-  return std::move(built.hull);
-}
-
-ConvexHull box_hull(Vec3 e) {
-  std::vector<Vec3> p;
-  for (int i = 0; i < 8; ++i)
-    p.push_back({(i & 1) ? e.x : -e.x, (i & 2) ? e.y : -e.y, (i & 4) ? e.z : -e.z});
-  auto built = ConvexHull::build(p);
-  REQUIRE(built);
-  return std::move(built.hull);
+  return hull_of(pts);
 }
 
 Iso3 random_pose(rng& r, float spread) { return {r.quat<float>(), r.vec3<float>(-spread, spread)}; }
@@ -551,24 +531,9 @@ TEMPLATE_LIST_TEST_CASE("GJK queries are lane-exact", "[collision][gjk][lanes]",
   using S = scalar_t<T>;
   rng r(77);
   // lanes_v<T> different hulls packed into one wide polytope, plus wide spheres/capsules.
-  std::vector<GConvexHull<S>> hulls;
-  for (std::size_t i = 0; i < lanes_v<T>; ++i) {
-    std::vector<GVec3<S>> pts;
-    for (std::size_t k = 0; k < 10 + 2 * i; ++k)
-      pts.push_back(GVec3<S>{S(r.uniform(-1, 1)), S(r.uniform(-1, 1)), S(r.uniform(-1, 1))});
-    auto built = GConvexHull<S>::build(pts);
-    REQUIRE(built);
-    hulls.push_back(std::move(built.hull));
-  }
-  std::vector<std::span<GVec3<S> const>> views;
-  for (auto const& h : hulls)
-    views.push_back(h.vertices());
-  auto const packed = pack_polytopes<T>(views);
-  GConvexPolytope<T> const wide{packed};
-  std::vector<std::vector<GVec3<S>>> lane_pts(lanes_v<T>);
-  for (std::size_t i = 0; i < lanes_v<T>; ++i)
-    for (auto const& p : packed)
-      lane_pts[i].push_back(lane(p, i));
+  packed_hulls<T> const ph([](std::size_t i) { return 10 + 2 * i; },
+                           [&](std::size_t) { return r.vec3<S>(-1, 1); });
+  GConvexPolytope<T> const wide = ph.wide();
   S const nan = std::numeric_limits<S>::quiet_NaN();
   int failures = 0;
   for (int k = 0; k < 40; ++k) {
@@ -587,7 +552,7 @@ TEMPLATE_LIST_TEST_CASE("GJK queries are lane-exact", "[collision][gjk][lanes]",
     GRay3<T> const ray{pa.translation, motion};
     auto const rc = ray_cast_gjk(wide, pb, ray, splat<T>(S(3)), k % 3 != 0);
     for (std::size_t i = 0; i < lanes_v<T>; ++i) {
-      GConvexPolytope<S> const hull{lane_pts[i]};
+      GConvexPolytope<S> const hull = ph.lane_polytope(i);
       GIso3<S> const la = lane(pa, i), lb = lane(pb, i);
       auto const cps = closest_points(GCapsule<S>{lane(hh, i), lane(radius, i)}, la, hull, lb);
       bool const ok_cp =

@@ -2,7 +2,7 @@
 // contacts), speculative points, capsules and spheres, half-spaces, triangles, edge-edge
 // contacts, the 4-point reduction, feature ids that persist, and consistent normals when the
 // shapes swap places.
-#include "../math/math_support.hpp"
+#include "collision_support.hpp"
 
 #include <plume/collision/manifold.hpp>
 
@@ -15,19 +15,6 @@ using namespace plume;
 using namespace plume::test;
 
 namespace {
-
-ConvexHull hull_of(std::vector<Vec3> const& pts) {
-  auto built = ConvexHull::build(pts);
-  REQUIRE(built);
-  return std::move(built.hull);
-}
-
-ConvexHull box_hull(Vec3 e) {
-  std::vector<Vec3> p;
-  for (int i = 0; i < 8; ++i)
-    p.push_back({(i & 1) ? e.x : -e.x, (i & 2) ? e.y : -e.y, (i & 4) ? e.z : -e.z});
-  return hull_of(p);
-}
 
 /// Invariants of every manifold: unit normal, at most 4 points, unique ids, points joined by
 /// separation * normal, separations within the prediction distance.

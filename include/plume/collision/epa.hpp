@@ -94,11 +94,9 @@ struct epa_polytope {
 } // namespace detail
 
 /// Signed distance / penetration between convex shapes a (at pose_a) and b (at pose_b).
-template <ScalarReal S, class A, class B>
-requires ConvexShape<A, S> && ConvexShape<B, S> GPenetrationResult<S>
-penetration(A const& a, GIso3<S> const& pose_a, B const& b, GIso3<S> const& pose_b,
-            EpaConfig const& cfg = {})
-noexcept {
+template <ScalarReal S, ConvexShape<S> A, ConvexShape<S> B>
+GPenetrationResult<S> penetration(A const& a, GIso3<S> const& pose_a, B const& b,
+                                  GIso3<S> const& pose_b, EpaConfig const& cfg = {}) noexcept {
   GPenetrationResult<S> out{};
   GClosestPoints<S> const g = closest_points(a, pose_a, b, pose_b, cfg.gjk);
   if (g.failed) {

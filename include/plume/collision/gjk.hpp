@@ -254,11 +254,10 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
 /// Distance, closest points and normal between convex shapes a (at pose_a) and b (at
 /// pose_b). `axis`: a warm-start direction (the previous result's axis); zero picks the
 /// centre difference.
-template <Real T, class A, class B>
-requires ConvexShape<A, T> && ConvexShape<B, T> GClosestPoints<T>
-closest_points(A const& a, GIso3<T> const& pose_a, B const& b, GIso3<T> const& pose_b,
-               GjkConfig const& cfg = {}, GVec3<T> const& axis = {})
-noexcept {
+template <Real T, ConvexShape<T> A, ConvexShape<T> B>
+GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_a, B const& b,
+                                 GIso3<T> const& pose_b, GjkConfig const& cfg = {},
+                                 GVec3<T> const& axis = {}) noexcept {
   using S = scalar_t<T>;
   T const z = zero<T>();
   detail::placed<A, T> const sa{a, pose_a};
@@ -348,11 +347,10 @@ noexcept {
 /// The first time of impact of shape a (at pose_a, moving by t * motion_a for t in
 /// [0, cfg.max_toi]; B is still: pass the relative motion) with b (at pose_b): the smallest t
 /// where their distance is at most cfg.target_distance.
-template <Real T, class A, class B>
-requires ConvexShape<A, T> && ConvexShape<B, T> GShapeCastHit<T>
-shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const& b,
-           GIso3<T> const& pose_b, ShapeCastConfig const& cfg = {})
-noexcept {
+template <Real T, ConvexShape<T> A, ConvexShape<T> B>
+GShapeCastHit<T> shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a,
+                            B const& b, GIso3<T> const& pose_b,
+                            ShapeCastConfig const& cfg = {}) noexcept {
   using S = scalar_t<T>;
   T const z = zero<T>();
   detail::placed<A, T> const sa{a, pose_a};
@@ -394,11 +392,9 @@ noexcept {
 /// toi in units of |dir|, outward normal, solid casts from inside hit at 0 with a zero normal,
 /// hollow casts from inside hit where the ray leaves the shape. Lanes that hit the iteration
 /// cap report their conservative toi as a hit.
-template <Real T, class Shape>
-requires ConvexShape<Shape, T> GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose,
-                                                       GRay3<T> const& ray, T max_toi,
-                                                       bool solid = true, GjkConfig const& cfg = {})
-noexcept {
+template <Real T, ConvexShape<T> Shape>
+GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, GRay3<T> const& ray, T max_toi,
+                        bool solid = true, GjkConfig const& cfg = {}) noexcept {
   T const z = zero<T>();
   detail::origin_support<T> const none{};
   detail::placed<Shape, T> const sb{shape, pose};

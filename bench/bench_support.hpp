@@ -1,0 +1,46 @@
+// bench/bench_support.hpp - what every plume benchmark suite shares: the timing loop with
+// items per iteration, the list of f32 widths of the build, and Google Benchmark's main.
+#pragma once
+
+#include <plume/numerics.hpp>
+
+#include <benchmark/benchmark.h>
+
+#include <cstdint>
+
+namespace plume::bench {
+
+/// The timed loop: body() once per iteration; items_per_second counts `items` per iteration.
+template <class F>
+void run_items(benchmark::State& st, std::int64_t items, F&& body) {
+  for (auto _ : st)
+    body();
+  st.SetItemsProcessed(std::int64_t(st.iterations()) * items);
+}
+
+/// Calls reg.template operator()<T>() for float and for every f32 width the build has
+/// (f32x4, f32x8, f32x16), in that order.
+template <class R>
+void for_each_f32_width(R&& reg) {
+  reg.template operator()<float>();
+#if PLUME_HAS_BATCHES
+  reg.template operator()<f32x4>();
+#endif
+#if PLUME_HAS_AVX2
+  reg.template operator()<f32x8>();
+#endif
+#if PLUME_HAS_AVX512
+  reg.template operator()<f32x16>();
+#endif
+}
+
+/// Google Benchmark's main body, after the suite has registered its benchmarks.
+inline int run_benchmarks(int argc, char** argv) {
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
+
+} // namespace plume::bench
