@@ -105,6 +105,34 @@ TEMPLATE_LIST_TEST_CASE("min and max: IEEE 754-2019 minimum/maximum in every pat
       S(0), S(1), "clamp");
 }
 
+TEMPLATE_LIST_TEST_CASE("min_select and max_select are the selects they name, NaN and zeros too",
+                        "[numerics][functions]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  S const nan = std::numeric_limits<S>::quiet_NaN(), inf = std::numeric_limits<S>::infinity();
+  auto mn = [](auto a, auto b) { return plume::min_select(a, b); };
+  auto mx = [](auto a, auto b) { return plume::max_select(a, b); };
+  // The second argument on unordered or equal pairs: order matters, unlike min/max.
+  expect_all_lanes2<T>(mn, S(1), S(2), S(1), "min_select");
+  expect_all_lanes2<T>(mn, S(2), S(1), S(1), "min_select");
+  expect_all_lanes2<T>(mn, S(-0.0), S(0), S(0), "min_select");
+  expect_all_lanes2<T>(mn, S(0), S(-0.0), S(-0.0), "min_select");
+  expect_all_lanes2<T>(mx, S(-0.0), S(0), S(0), "max_select");
+  expect_all_lanes2<T>(mx, S(0), S(-0.0), S(-0.0), "max_select");
+  expect_all_lanes2<T>(mn, nan, S(1), S(1), "min_select");
+  expect_all_lanes2<T>(mn, S(1), nan, nan, "min_select");
+  expect_all_lanes2<T>(mx, nan, -inf, -inf, "max_select");
+  expect_all_lanes2<T>(mx, inf, nan, nan, "max_select");
+  expect_all_lanes2<T>(mx, -inf, inf, inf, "max_select");
+  auto cl = [](auto x) {
+    using V = decltype(x);
+    return plume::clamp_select(x, splat<V>(-1), splat<V>(1));
+  };
+  expect_all_lanes<T>(cl, S(5), S(1), "clamp_select");
+  expect_all_lanes<T>(cl, S(-0.5), S(-0.5), "clamp_select");
+  expect_all_lanes<T>(cl, nan, S(-1), "clamp_select");
+}
+
 TEMPLATE_LIST_TEST_CASE("mul_add, lerp and hypot", "[numerics][functions]", test::real_types) {
   using T = TestType;
   using S = scalar_t<T>;

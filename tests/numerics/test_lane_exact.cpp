@@ -48,6 +48,8 @@ TEMPLATE_LIST_TEST_CASE("every numerics function is lane-exact", "[numerics][lan
   L2(pow);
   L2(min);
   L2(max);
+  L2(min_select);
+  L2(max_select);
   L2(hypot);
   L2(copysign);
   test::check_lane_exact2<T>(

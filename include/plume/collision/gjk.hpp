@@ -209,7 +209,7 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
     // Close enough: within tolerance of the inflated set, or of its rounding floor (16 eps of
     // the coordinates in play) where float cannot resolve the tolerance.
     T const floor = floor_k * plume::sqrt(x.dot(x) + w.p.dot(w.p));
-    T const reach = radius + plume::max(tol, floor);
+    T const reach = radius + plume::max_select(tol, floor);
     mask_t<T> const close = (nd2 <= reach * reach) | step.inside;
     mask_t<T> const stalled = (!advance) & (nd2 >= d2_ref);
     mask_t<T> const done_hit = live & (close | stalled);
@@ -290,7 +290,7 @@ GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_a, B const& b,
     detail::simplex_vertex<T> const w = detail::minkowski_vertex(sa, sb, v);
     GVec3<T> const y = -w.p; // a - b
     mask_t<T> const bad = !detail::finite3(y);
-    max_y2 = plume::select(active, plume::max(max_y2, y.dot(y)), max_y2);
+    max_y2 = plume::select(active, plume::max_select(y.dot(y), max_y2), max_y2);
     // Stop when the lower bound v.y/|v| is within tolerance of the upper bound |v|.
     T const vl = plume::sqrt(d2);
     T const gap = d2 - v.dot(y);

@@ -72,13 +72,14 @@ PLUME_INLINE GVec3<T> unit_or_zero(GVec3<T> const& v) noexcept {
   return GVec3<T>::select(plume::is_finite(r) & (r > zero<T>()), v * r, GVec3<T>{});
 }
 
+/// select(b < a, b, a) and select(b > a, b, a): a when the pair is unordered or equal.
 template <Real T>
 PLUME_INLINE T min_of(T a, T b) noexcept {
-  return plume::select(b < a, b, a);
+  return plume::min_select(b, a);
 }
 template <Real T>
 PLUME_INLINE T max_of(T a, T b) noexcept {
-  return plume::select(b > a, b, a);
+  return plume::max_select(b, a);
 }
 
 /// Roots of |f + t d|^2 = r^2 in the robust form; the 2D form (xz) when Flat.
@@ -110,6 +111,7 @@ PLUME_INLINE ray_interval<T> quadric_roots(GVec3<T> f, GVec3<T> d, T r) noexcept
 template <Real T>
 struct slab {
   T tin, tout;
+  mask_t<T> in; ///< the origin is in the (closed) slab
 };
 template <Real T>
 PLUME_INLINE slab<T> slab_interval(T o, T d, T lo, T hi) noexcept {
@@ -119,7 +121,7 @@ PLUME_INLINE slab<T> slab_interval(T o, T d, T lo, T hi) noexcept {
   T const inv = one<T>() / d;
   T const t1 = (lo - o) * inv, t2 = (hi - o) * inv;
   T const pin = plume::select(in, -inf, inf), pout = plume::select(in, inf, -inf);
-  return {plume::select(par, pin, min_of(t1, t2)), plume::select(par, pout, max_of(t1, t2))};
+  return {plume::select(par, pin, min_of(t1, t2)), plume::select(par, pout, max_of(t1, t2)), in};
 }
 
 /// The hit of the conventions above, before its normal: `leaving` marks hollow hits from
@@ -188,17 +190,18 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray,
   return detail::with_normal(h, n);
 }
 
-/// Cuboid (local frame: the box [-e, e]).
+namespace detail {
+/// The box lo <= p <= hi (in the frame the ray is given in): slab test, entry/exit face
+/// normals. Shared by cuboids (lo = -e, hi = e) and world AABBs.
 template <Real T>
-PLUME_INLINE GRayHit<T> ray_cast_local(GCuboid<T> const& box, GRay3<T> const& ray, T max_toi,
-                                       bool solid = true) noexcept {
+PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T> const& ray,
+                                 T max_toi, bool solid) noexcept {
   using V = GVec3<T>;
   GVec3<T> const& o = ray.origin;
   GVec3<T> const& d = ray.dir;
-  GVec3<T> const& e = box.half_extents;
-  auto const sx = detail::slab_interval(o.x, d.x, -e.x, e.x);
-  auto const sy = detail::slab_interval(o.y, d.y, -e.y, e.y);
-  auto const sz = detail::slab_interval(o.z, d.z, -e.z, e.z);
+  auto const sx = slab_interval(o.x, d.x, lo.x, hi.x);
+  auto const sy = slab_interval(o.y, d.y, lo.y, hi.y);
+  auto const sz = slab_interval(o.z, d.z, lo.z, hi.z);
   T const z = zero<T>();
   // Entry: the slab entered last (first axis on ties); exit: the slab left first.
   auto const y_in = sy.tin > sx.tin;
@@ -215,17 +218,25 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCuboid<T> const& box, GRay3<T> const& ra
     return V::select(z_sel, V{z, z, sign_z}, n);
   };
   auto const sgn = [&](T c) { return plume::select(c < z, -one<T>(), one<T>()); };
-  detail::ray_interval<T> iv;
+  ray_interval<T> iv;
   iv.ok = tin <= tout;
   iv.tin = tin;
   iv.tout = tout;
-  auto const inside = (o.abs().cmple(e)).all();
-  auto const h = detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+  auto const inside = (sx.in & sy.in) & sz.in;
+  auto const h = finish(ray_valid(ray, max_toi), inside, iv, max_toi, solid);
   // Entering: the face of the entry slab, facing -dir; leaving: the exit slab's, facing dir.
   auto const ys = plume::select(h.leaving, y_out & !z_out, y_in & !z_in);
   auto const zs = plume::select(h.leaving, z_out, z_in);
   T const flip = plume::select(h.leaving, one<T>(), -one<T>());
-  return detail::with_normal(h, axis(ys, zs, flip * sgn(d.x), flip * sgn(d.y), flip * sgn(d.z)));
+  return with_normal(h, axis(ys, zs, flip * sgn(d.x), flip * sgn(d.y), flip * sgn(d.z)));
+}
+} // namespace detail
+
+/// Cuboid (local frame: the box [-e, e]).
+template <Real T>
+PLUME_INLINE GRayHit<T> ray_cast_local(GCuboid<T> const& box, GRay3<T> const& ray, T max_toi,
+                                       bool solid = true) noexcept {
+  return detail::box_cast(-box.half_extents, box.half_extents, ray, max_toi, solid);
 }
 
 /// Capsule (local frame: radius r around the segment (0, -h, 0) - (0, h, 0)). The capsule
@@ -266,13 +277,13 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& r
     iv.tout = plume::select(side_out, side.tout, sphere_out.tout);
     iv.ok = iv.ok & (side_out | sphere_out.ok);
   }
-  T const cy = plume::clamp(o.y, -h, h);
+  T const cy = plume::clamp_select(o.y, -h, h); // (a NaN lane is invalid already)
   auto const inside = (V{o.x, o.y - cy, o.z}.length_squared() <= r * r);
   auto const hit = detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
   // The outward normal (p - nearest point of the segment) / r; a zero radius has none.
   V const p = ray.at(hit.toi);
   T const inv_r = one<T>() / r;
-  V const n = V::select(r > z, V{p.x, p.y - plume::clamp(p.y, -h, h), p.z} * inv_r, V{});
+  V const n = V::select(r > z, V{p.x, p.y - plume::clamp_select(p.y, -h, h), p.z} * inv_r, V{});
   return detail::with_normal(hit, n);
 }
 
@@ -427,9 +438,7 @@ PLUME_INLINE GRayHit<T> ray_cast(Shape const& shape, GIso3<T> const& pose, GRay3
 template <Real T>
 PLUME_INLINE GRayHit<T> ray_cast(GAabb3<T> const& box, GRay3<T> const& ray, T max_toi,
                                  bool solid = true) noexcept {
-  GVec3<T> const c = (box.min + box.max) * half<T>();
-  GVec3<T> const e = (box.max - box.min) * half<T>();
-  return ray_cast_local(GCuboid<T>{e}, GRay3<T>{ray.origin - c, ray.dir}, max_toi, solid);
+  return detail::box_cast(box.min, box.max, ray, max_toi, solid);
 }
 
 } // namespace plume

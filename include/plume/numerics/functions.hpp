@@ -111,6 +111,31 @@ PLUME_INLINE T clamp(T x, T lo, T hi) noexcept {
   return plume::min(plume::max(x, lo), hi);
 }
 
+// min_select(a, b) is exactly select(a < b, a, b), max_select(a, b) exactly
+// select(a > b, a, b): the second argument when the pair is unordered (a NaN) or equal (so
+// the order of -0 and +0 matters). One instruction on every path (minps/maxps, minss/maxss),
+// where a select is a compare and a blend on batches: for kernels whose NaN lanes are masked
+// out anyway or whose inputs are finite. clamp_select(x, lo, hi) = min_select(max_select(x,
+// lo), hi) (a NaN x gives lo).
+template <Real T>
+PLUME_INLINE T min_select(T a, T b) noexcept {
+  if constexpr (is_batch_v<T>)
+    return xsimd::min(a, b); // MINPS: a < b ? a : b
+  else
+    return a < b ? a : b;
+}
+template <Real T>
+PLUME_INLINE T max_select(T a, T b) noexcept {
+  if constexpr (is_batch_v<T>)
+    return xsimd::max(a, b); // MAXPS: a > b ? a : b
+  else
+    return a > b ? a : b;
+}
+template <Real T>
+PLUME_INLINE T clamp_select(T x, T lo, T hi) noexcept {
+  return plume::min_select(plume::max_select(x, lo), hi);
+}
+
 // ----------------------------------------------------------------------------- rounding
 namespace detail {
 /// 2^(mantissa bits): every float at or above it in magnitude is an integer.
