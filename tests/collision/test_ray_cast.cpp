@@ -420,6 +420,43 @@ TEST_CASE("triangles: watertight on a fan, oracle hits, degenerate cases", "[col
   }
 }
 
+TEST_CASE("ray hits name the feature they hit", "[collision][ray]") {
+  float const inf = std::numeric_limits<float>::infinity();
+  // Boxes: faces 0..5 = -x, +x, -y, +y, -z, +z, entering and (hollow) leaving.
+  Cuboid const box{{1, 2, 3}};
+  Vec3 const axes[3] = {Vec3::X, Vec3::Y, Vec3::Z};
+  for (int a = 0; a < 3; ++a)
+    for (float sgn : {-1.0f, 1.0f}) {
+      Vec3 const out = axes[a] * (10 * sgn);
+      float const want = float(2 * a + (sgn > 0 ? 1 : 0));
+      CHECK(ray_cast_local(box, Ray3{out, -out}, inf).feature == want);      // entering
+      CHECK(ray_cast_local(box, Ray3{{}, out}, inf, false).feature == want); // leaving
+      CHECK(ray_cast(Aabb3{{-1, -2, -3}, {1, 2, 3}}, Ray3{out, -out}, inf).feature == want);
+    }
+  CHECK(ray_cast_local(box, Ray3{{}, {1, 0, 0}}, inf).feature == -1);        // solid, inside
+  CHECK(ray_cast_local(box, Ray3{{5, 5, 5}, {1, 0, 0}}, inf).feature == -1); // miss
+  // Capsules: side, upper end, lower end.
+  Capsule const cap{1, 0.5f};
+  CHECK(ray_cast_local(cap, Ray3{{5, 0.5f, 0}, {-1, 0, 0}}, inf).feature == 0);
+  CHECK(ray_cast_local(cap, Ray3{{0, 5, 0}, {0, -1, 0}}, inf).feature == 1);
+  CHECK(ray_cast_local(cap, Ray3{{0.1f, -5, 0}, {0, 1, 0}}, inf).feature == 2);
+  CHECK(ray_cast_local(cap, Ray3{{5, 1.2f, 0}, {-1, 0, 0}}, inf).feature == 1);
+  // Cylinders: side, top cap, bottom cap.
+  Cylinder const cyl{1, 0.5f};
+  CHECK(ray_cast_local(cyl, Ray3{{5, 0.5f, 0}, {-1, 0, 0}}, inf).feature == 0);
+  CHECK(ray_cast_local(cyl, Ray3{{0.2f, 5, 0}, {0, -1, 0}}, inf).feature == 1);
+  CHECK(ray_cast_local(cyl, Ray3{{0.2f, -5, 0}, {0, 1, 0}}, inf).feature == 2);
+  CHECK(ray_cast_local(cyl, Ray3{{0, 0, 0}, {0, 1, 0}}, inf, false).feature == 1);
+  // Triangles: front and back.
+  Triangle const tri{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}; // front: +z
+  CHECK(ray_cast_local(tri, Ray3{{0.2f, 0.2f, 1}, {0, 0, -1}}, inf).feature == 0);
+  CHECK(ray_cast_local(tri, Ray3{{0.2f, 0.2f, -1}, {0, 0, 1}}, inf).feature == 1);
+  CHECK(ray_cast_local(tri, Ray3{{2, 2, -1}, {0, 0, 1}}, inf).feature == -1);
+  // Spheres and half-spaces have one part.
+  CHECK(ray_cast_local(Sphere{1}, Ray3{{5, 0, 0}, {-1, 0, 0}}, inf).feature == 0);
+  CHECK(ray_cast_local(HalfSpace{{0, 1, 0}}, Ray3{{0, 5, 0}, {0, -1, 0}}, inf).feature == 0);
+}
+
 #if PLUME_HAS_BATCHES
 TEMPLATE_LIST_TEST_CASE("every ray cast is lane-exact", "[collision][ray][lanes]",
                         wide_real_types) {
@@ -437,7 +474,8 @@ TEMPLATE_LIST_TEST_CASE("every ray cast is lane-exact", "[collision][ray][lanes]
     return GRay3<T>{o, d};
   };
   auto const same_hit = [](auto const& a, auto const& b) {
-    return same(a.toi, b.toi) && same(a.normal, b.normal) && a.hit == b.hit;
+    return same(a.toi, b.toi) && same(a.normal, b.normal) && a.hit == b.hit &&
+           same(a.feature, b.feature);
   };
   int failures = 0;
   auto const check = [&](char const* name, auto const& wide_shape, auto lane_shape, auto cast) {
@@ -450,7 +488,7 @@ TEMPLATE_LIST_TEST_CASE("every ray cast is lane-exact", "[collision][ray][lanes]
       for (std::size_t i = 0; i < lanes_v<T>; ++i) {
         GRay3<S> const rl{lane(ray.origin, i), lane(ray.dir, i)};
         auto const s = cast(lane_shape(i), rl, lane(max_toi, i), solid);
-        GRayHit<S> const wl{lane(w.hit, i), lane(w.toi, i), lane(w.normal, i)};
+        GRayHit<S> const wl{lane(w.hit, i), lane(w.toi, i), lane(w.normal, i), lane(w.feature, i)};
         if (!same_hit(wl, s) && failures++ < 5)
           FAIL_CHECK(name << " lane " << i << ": wide " << wl.toi << " " << wl.normal << " scalar "
                           << s.toi << " " << s.normal);

@@ -311,7 +311,7 @@ std::uint64_t collision_battery() {
       h.add(lane(cp.distance, l)), add3(cp.point_a), add3(cp.normal), h.add(lane(cp.iterations, l));
       h.add(lane(sc.toi, l)), add3(sc.normal), add3(sc.point_b);
       for (auto const* r : {&rg, &r1, &r2, &r3, &r4})
-        h.add(lane(r->toi, l)), add3(r->normal);
+        h.add(lane(r->toi, l)), add3(r->normal), h.add(lane(r->feature, l));
     }
   }
   return h.h;

@@ -391,7 +391,8 @@ GShapeCastHit<T> shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& 
 /// collision/ray_cast.hpp and are faster where they exist). Conventions as in ray_cast.hpp:
 /// toi in units of |dir|, outward normal, solid casts from inside hit at 0 with a zero normal,
 /// hollow casts from inside hit where the ray leaves the shape. Lanes that hit the iteration
-/// cap report their conservative toi as a hit.
+/// cap report their conservative toi as a hit. feature is -1 (a hull's face can be found
+/// from the normal with GConvexHull::support_face).
 template <Real T, ConvexShape<T> Shape>
 GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, GRay3<T> const& ray, T max_toi,
                         bool solid = true, GjkConfig const& cfg = {}) noexcept {
@@ -405,6 +406,7 @@ GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, GRay3<T> const
   detail::cast_state<T> const c = detail::gjk_cast(none, sb, ray.origin, ray.dir, max_toi, radius,
                                                    ray.origin - pose.translation, bad_input, cfg);
   GRayHit<T> out;
+  out.feature = -one<T>(); // polytope views have no faces: unknown
   out.hit = c.hit & (!c.failed);
   out.toi = plume::select(out.hit, c.toi, infinity<T>());
   out.normal =

@@ -24,6 +24,11 @@
 //    treat a zero direction component (+0 or -0) as parallel and decide by whether the origin
 //    lies in the slab, so 0 * inf never makes a NaN.
 //  - A grazing ray that touches the surface in one point hits (tangency counts).
+//  - feature: the part of the shape hit, where the shape has parts, -1 on a miss or a solid
+//    hit from inside: cuboids and AABBs 0..5 = the -x, +x, -y, +y, -z, +z face; capsules
+//    0 side, 1 upper end (+y), 2 lower end; cylinders 0 side, 1 top cap, 2 bottom cap;
+//    triangles 0 front (the side (b - a) x (c - a) points to), 1 back; spheres and
+//    half-spaces 0. A number of type T, so that wide hits carry one per lane.
 #pragma once
 
 #include <plume/collision/shapes.hpp>
@@ -50,6 +55,7 @@ struct GRayHit {
   mask_t<T> hit;
   T toi;           ///< +infinity where hit is false
   GVec3<T> normal; ///< outward unit normal at the hit; zero on a miss or a solid inside hit
+  T feature;       ///< the part hit (see the conventions above); -1 on a miss or inside
 };
 
 using Ray3 = GRay3<float>;
@@ -155,8 +161,11 @@ PLUME_INLINE pre_hit<T> finish(mask_t<T> valid, mask_t<T> inside, ray_interval<T
   return h;
 }
 template <Real T>
-PLUME_INLINE GRayHit<T> with_normal(pre_hit<T> const& h, GVec3<T> const& n) noexcept {
-  return {h.hit, h.toi, GVec3<T>::select(h.hit & !h.bare, n, GVec3<T>{})};
+PLUME_INLINE GRayHit<T> with_normal(pre_hit<T> const& h, GVec3<T> const& n,
+                                    T feature = zero<T>()) noexcept {
+  mask_t<T> const surface = h.hit & !h.bare;
+  return {h.hit, h.toi, GVec3<T>::select(surface, n, GVec3<T>{}),
+          plume::select(surface, feature, -one<T>())};
 }
 
 template <Real T>
@@ -228,7 +237,11 @@ PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T
   auto const ys = plume::select(h.leaving, y_out & !z_out, y_in & !z_in);
   auto const zs = plume::select(h.leaving, z_out, z_in);
   T const flip = plume::select(h.leaving, one<T>(), -one<T>());
-  return with_normal(h, axis(ys, zs, flip * sgn(d.x), flip * sgn(d.y), flip * sgn(d.z)));
+  V const n = axis(ys, zs, flip * sgn(d.x), flip * sgn(d.y), flip * sgn(d.z));
+  // Face 2 axis + (outward normal positive).
+  T const face = plume::select(zs, splat<T>(4), plume::select(ys, splat<T>(2), z)) +
+                 plume::select(((n.x + n.y) + n.z) > z, one<T>(), z);
+  return with_normal(h, n, face);
 }
 } // namespace detail
 
@@ -283,8 +296,10 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& r
   // The outward normal (p - nearest point of the segment) / r; a zero radius has none.
   V const p = ray.at(hit.toi);
   T const inv_r = one<T>() / r;
-  V const n = V::select(r > z, V{p.x, p.y - plume::clamp_select(p.y, -h, h), p.z} * inv_r, V{});
-  return detail::with_normal(hit, n);
+  T const cy_hit = plume::clamp_select(p.y, -h, h);
+  V const n = V::select(r > z, V{p.x, p.y - cy_hit, p.z} * inv_r, V{});
+  T const part = plume::select(p.y > h, one<T>(), plume::select(p.y < -h, two<T>(), z));
+  return detail::with_normal(hit, n, part);
 }
 
 /// Cylinder (local frame: radius r around Y, caps at y = +-h): the intersection of the
@@ -316,7 +331,8 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCylinder<T> const& cyl, GRay3<T> const& 
   V const p = ray.at(hit.toi);
   V const n = V::select(on_cap, V{z, plume::select(hit.leaving, -up, up), z},
                         detail::unit_or_zero(V{p.x, z, p.z}));
-  return detail::with_normal(hit, n);
+  T const part = plume::select(on_cap, plume::select(n.y > z, one<T>(), two<T>()), z);
+  return detail::with_normal(hit, n, part);
 }
 
 /// Half-space (local frame: the solid n . p <= 0).
@@ -419,8 +435,10 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
   T const t = tn / det;
   M const hit = detail::ray_valid(ray, max_toi) & inside & (det != z) & (t >= z) & (t <= max_toi);
   V const n = detail::unit_or_zero(tri.scaled_normal());
-  V const facing = V::select(n.dot(d) > z, -n, n);
-  return {hit, plume::select(hit, t, infinity<T>()), V::select(hit, facing, V{})};
+  M const back = n.dot(d) > z; // coming from behind: the back face
+  V const facing = V::select(back, -n, n);
+  return {hit, plume::select(hit, t, infinity<T>()), V::select(hit, facing, V{}),
+          plume::select(hit, plume::select(back, one<T>(), z), -one<T>())};
 }
 
 /// Any shape at a pose: the ray is moved into the shape frame, the normal back out.
