@@ -89,11 +89,6 @@ struct packed {
   }
 };
 
-template <class F>
-void run(benchmark::State& st, F&& f) {
-  plume::bench::run_items(st, std::int64_t(N), f);
-}
-
 template <class T>
 void register_width() {
   constexpr std::size_t L = plume::lanes_v<T>;
@@ -102,7 +97,7 @@ void register_width() {
   auto reg = [&](char const* name, auto query) {
     benchmark::RegisterBenchmark((std::string(name) + w).c_str(), [query](benchmark::State& st) {
       packed<T> const p;
-      run(st, [&] {
+      plume::bench::run_items(st, N, [&] {
         for (std::size_t g = 0; g < p.pose.size(); ++g) {
           auto const r = query(p, g);
           benchmark::DoNotOptimize(r);

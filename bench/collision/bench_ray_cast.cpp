@@ -77,11 +77,6 @@ struct packed {
   }
 };
 
-template <class F>
-void run(benchmark::State& st, F&& f) {
-  plume::bench::run_items(st, std::int64_t(N), f);
-}
-
 template <class T>
 void register_width() {
   constexpr std::size_t L = plume::lanes_v<T>;
@@ -91,7 +86,7 @@ void register_width() {
   auto reg = [&](char const* name, auto cast) {
     benchmark::RegisterBenchmark((std::string(name) + w).c_str(), [cast](benchmark::State& st) {
       packed<T> const p;
-      run(st, [&] {
+      plume::bench::run_items(st, N, [&] {
         for (std::size_t i = 0; i < p.o.size(); ++i) {
           auto const hit = cast(p, i);
           benchmark::DoNotOptimize(hit.toi);
@@ -129,7 +124,7 @@ void register_width() {
     packed<T> const p;
     auto const& s = data();
     V const o(s.o[0]), d(s.d[0]);
-    run(st, [&] {
+    plume::bench::run_items(st, N, [&] {
       for (std::size_t i = 0; i < p.o.size(); ++i) {
         auto const hit = plume::ray_cast_local(
             plume::GSphere<T>{p.r[i]}, plume::GRay3<T>{o - p.c[i], d}, plume::infinity<T>());

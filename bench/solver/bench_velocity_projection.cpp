@@ -90,11 +90,6 @@ packed<T> pack(problems const& p, int k) {
   return out;
 }
 
-template <class F>
-void run(benchmark::State& st, F&& f) {
-  plume::bench::run_items(st, std::int64_t(P), f);
-}
-
 template <class T>
 void register_width() {
   constexpr std::size_t L = plume::lanes_v<T>;
@@ -103,7 +98,7 @@ void register_width() {
     std::string const kk = "/k" + std::to_string(k);
     benchmark::RegisterBenchmark(("project_velocity" + kk + w).c_str(), [k](benchmark::State& st) {
       auto const p = pack<T>(data(k), k);
-      run(st, [&] {
+      plume::bench::run_items(st, P, [&] {
         for (std::size_t g = 0; g < p.v.size(); ++g) {
           auto const r = plume::project_velocity<T>(
               p.v[g], std::span(p.n.data() + g * std::size_t(k), std::size_t(k)));
@@ -113,7 +108,7 @@ void register_width() {
     });
     benchmark::RegisterBenchmark(("depenetrate" + kk + w).c_str(), [k](benchmark::State& st) {
       auto const p = pack<T>(data(k), k);
-      run(st, [&] {
+      plume::bench::run_items(st, P, [&] {
         for (std::size_t g = 0; g < p.v.size(); ++g) {
           auto const r = plume::depenetrate<plume::GVec3<T>>(
               std::span(p.pen.data() + g * std::size_t(k), std::size_t(k)));
@@ -129,7 +124,7 @@ void register_bruteforce() {
     std::string const name = "project_velocity/k" + std::to_string(k) + "/f32/bruteforce/x1";
     benchmark::RegisterBenchmark(name.c_str(), [k](benchmark::State& st) {
       auto const& p = data(k);
-      run(st, [&] {
+      plume::bench::run_items(st, P, [&] {
         for (std::size_t i = 0; i < P; ++i) {
           auto const r = plume::project_velocity_bruteforce<float>(
               p.v[i], std::span(p.n.data() + i * std::size_t(k), std::size_t(k)));
