@@ -1,0 +1,319 @@
+// The rigid-body world against closed forms (rest, bounce, slope), the stability scenes of
+// the issue (20-box stack, 15-layer pyramid: 10 s at 60 Hz), bitwise equality across widths,
+// and bad input.
+#include "../common/harness.hpp"
+
+#include <plume/solver/scenes.hpp>
+#include <plume/solver/world.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+using namespace plume;
+
+namespace {
+
+constexpr float dt = 1.0f / 60.0f;
+constexpr float slop = 0.005f; // linear slop, m: the penetration a resting contact may keep
+
+/// The lowest point of any body (its AABB's min y).
+float lowest_point(World const& w, std::vector<BodyId> const& ids) {
+  float y = INFINITY;
+  for (BodyId id : ids)
+    y = std::min(y, w.aabb(id).min.y);
+  return y;
+}
+
+bool all_finite(World const& w) {
+  for (std::uint32_t i = 0; i < w.body_count(); ++i) {
+    Iso3 const p = w.pose({i});
+    Vec3 const v = w.linear_velocity({i}), a = w.angular_velocity({i});
+    for (float x : {p.translation.x, p.translation.y, p.translation.z, p.rotation.x, p.rotation.y,
+                    p.rotation.z, p.rotation.w, v.x, v.y, v.z, a.x, a.y, a.z})
+      if (!std::isfinite(x)) return false;
+  }
+  return true;
+}
+
+struct StabilityResult {
+  float top_drift;     ///< horizontal distance the top box moved, m
+  float lowest;        ///< lowest point of any box at any sampled time, m
+  double energy_early; ///< largest kinetic energy between 2 s and 5 s, J
+  double energy_late;  ///< largest kinetic energy over the last 2 s, J
+  double energy_floor; ///< 1/2 M (1 mm/s)^2: the kinetic energy of a scene at rest, J
+};
+
+StabilityResult run_stability(World& w, std::vector<BodyId> const& ids, int steps) {
+  Vec3 const top0 = w.pose(ids.back()).translation;
+  double mass = 0.0;
+  for (BodyId id : ids)
+    mass += double(w.mass(id));
+  StabilityResult r{0.0f, INFINITY, 0.0, 0.0, 0.5 * mass * 1e-6};
+  for (int s = 1; s <= steps; ++s) {
+    w.step(dt);
+    if (s % 30 == 0) r.lowest = std::min(r.lowest, lowest_point(w, ids));
+    if (s >= 120 && s <= 300) r.energy_early = std::max(r.energy_early, w.kinetic_energy());
+    if (s > steps - 120) r.energy_late = std::max(r.energy_late, w.kinetic_energy());
+  }
+  Vec3 const d = w.pose(ids.back()).translation - top0;
+  r.top_drift = std::sqrt(d.x * d.x + d.z * d.z);
+  return r;
+}
+
+} // namespace
+
+TEST_CASE("world: a box dropped on the ground comes to rest within the slop", "[world]") {
+  World w;
+  add_ground(w);
+  BodyDef def;
+  def.shape = Cuboid{Vec3::splat(0.5f)};
+  def.pose = Iso3{Quat::from_rotation_z(0.3f), {0.0f, 1.5f, 0.0f}};
+  BodyId const box = w.create_body(def).id;
+  for (int s = 0; s < 180; ++s)
+    w.step(dt);
+  CHECK(w.linear_velocity(box).length() < 1e-3f);
+  CHECK(w.angular_velocity(box).length() < 1e-3f);
+  float const bottom = w.aabb(box).min.y;
+  INFO("lowest point " << bottom);
+  CHECK(bottom > -slop);
+  CHECK(bottom < 0.001f);
+  CHECK(std::abs(w.pose(box).rotation.x) + std::abs(w.pose(box).rotation.z) < 1e-3f); // flat
+
+  // Resting: the normal impulses per substep carry exactly the weight (m g h).
+  REQUIRE(w.contacts().size() == 1);
+  Contact const& c = w.contacts()[0];
+  float sum = 0.0f;
+  for (float x : c.impulses.normal)
+    sum += x;
+  float const h = dt / float(w.config().substeps);
+  CHECK(sum == Approx(w.mass(box) * 9.81f * h).epsilon(1e-3));
+  CHECK(c.manifold.count == 4);
+}
+
+TEST_CASE("world: a ball with restitution e bounces to e^2 of its drop height", "[world]") {
+  for (float const e : {0.5f, 0.8f}) {
+    World w;
+    add_ground(w);
+    BodyDef def;
+    def.shape = Sphere{0.25f};
+    def.restitution = e;
+    float const h0 = 3.0f; // drop height of the ball's bottom
+    def.pose = Iso3::from_translation({0.0f, h0 + 0.25f, 0.0f});
+    BodyId const ball = w.create_body(def).id;
+    bool bounced = false;
+    float apex = 0.0f;
+    for (int s = 0; s < 240; ++s) {
+      w.step(dt);
+      float const vy = w.linear_velocity(ball).y;
+      float const y = w.pose(ball).translation.y - 0.25f;
+      if (vy > 0.0f) bounced = true;
+      if (bounced) apex = std::max(apex, y);
+      if (bounced && vy < 0.0f && y < 0.5f * apex) break;
+    }
+    INFO("e = " << e << ", apex " << apex << ", expected " << e * e * h0);
+    REQUIRE(bounced);
+    // Discrete time: impact speed and apex are sampled at 60 Hz steps (about 1% each).
+    CHECK(apex == Approx(e * e * h0).epsilon(0.03));
+  }
+}
+
+TEST_CASE("world: a box on a slope stays when mu > tan(theta), else slides at "
+          "g (sin - mu cos)",
+          "[world]") {
+  struct Case {
+    float degrees, mu;
+  };
+  for (Case const k : {Case{20.0f, 0.6f}, Case{30.0f, 0.3f}, Case{25.0f, 0.1f}}) {
+    float const th = k.degrees * std::numbers::pi_v<float> / 180.0f;
+    World w;
+    add_ramp(w, th, Vec3{}, 60.0f, 4.0f, k.mu);
+    BodyDef def;
+    def.shape = Cuboid{Vec3::splat(0.5f)};
+    def.friction = k.mu;
+    Quat const r = Quat::from_rotation_z(th);
+    def.pose = Iso3{r, r * Vec3{0.0f, 0.5f, 0.0f}};
+    BodyId const box = w.create_body(def).id;
+    Vec3 const p0 = w.pose(box).translation;
+    Vec3 const downhill{-std::cos(th), -std::sin(th), 0.0f};
+    int const steps = 120;
+    for (int s = 0; s < steps; ++s)
+      w.step(dt);
+    float const t = float(steps) * dt;
+    float const along = (w.pose(box).translation - p0).dot(downhill);
+    float const speed = w.linear_velocity(box).dot(downhill);
+    float const a = 9.81f * (std::sin(th) - k.mu * std::cos(th));
+    INFO(k.degrees << " deg, mu " << k.mu << ": moved " << along << " m, speed " << speed);
+    if (a <= 0.0f) {
+      CHECK(std::abs(along) < 1e-3f);
+      CHECK(std::abs(speed) < 1e-3f);
+    } else {
+      CHECK(speed == Approx(a * t).epsilon(0.01));
+      CHECK(along == Approx(0.5f * a * t * t).epsilon(0.02));
+    }
+  }
+}
+
+TEST_CASE("world: the 20-box stack stands for 10 s", "[world][stability]") {
+  World w;
+  add_ground(w);
+  std::vector<BodyId> const ids = add_box_stack(w, 20);
+  StabilityResult const r = run_stability(w, ids, 600);
+  INFO("top drift " << r.top_drift << " m, lowest " << r.lowest << " m, max KE 2-5 s "
+                    << r.energy_early << " J, over the last 2 s " << r.energy_late << " J");
+  CHECK(r.top_drift < 0.05f);
+  CHECK(r.lowest > -slop);
+  CHECK(r.energy_late <= std::max(r.energy_early, r.energy_floor)); // not growing
+}
+
+TEST_CASE("world: the 15-layer pyramid (1,240 boxes) stands for 10 s", "[world][stability]") {
+  World w;
+  add_ground(w);
+  std::vector<BodyId> const ids = add_box_pyramid(w, 15);
+  REQUIRE(ids.size() == 1240);
+  StabilityResult const r = run_stability(w, ids, 600);
+  INFO("top drift " << r.top_drift << " m, lowest " << r.lowest << " m, max KE 2-5 s "
+                    << r.energy_early << " J, over the last 2 s " << r.energy_late << " J");
+  CHECK(r.top_drift < 0.05f);
+  CHECK(r.lowest > -slop);
+  CHECK(r.energy_late <= std::max(r.energy_early, r.energy_floor)); // not growing
+  CHECK(all_finite(w));
+}
+
+TEST_CASE("world: every solver width gives bitwise the same world", "[world][determinism]") {
+  auto const run = []<class T>(std::type_identity<T>) {
+    World w;
+    add_ground(w);
+    add_box_pyramid(w, 5);
+    BodyDef def;
+    def.shape = Sphere{0.3f};
+    def.restitution = 0.5f;
+    def.pose = Iso3::from_translation({3.0f, 4.0f, 0.2f});
+    def.linear_velocity = {-2.0f, 0.0f, 0.0f};
+    w.create_body(def);
+    def.shape = Capsule{0.4f, 0.2f};
+    def.pose = Iso3{Quat::from_rotation_x(1.0f), {-3.0f, 2.0f, 0.5f}};
+    def.linear_velocity = {2.5f, 0.0f, 0.0f};
+    w.create_body(def);
+    for (int s = 0; s < 120; ++s)
+      w.template step_with<T>(dt);
+    return w.state_hash();
+  };
+  std::uint64_t const scalar = run(std::type_identity<float>{});
+#if PLUME_HAS_BATCHES
+  CHECK(run(std::type_identity<f32x4>{}) == scalar);
+#endif
+#if PLUME_HAS_AVX2
+  CHECK(run(std::type_identity<f32x8>{}) == scalar);
+#endif
+#if PLUME_HAS_AVX512
+  CHECK(run(std::type_identity<f32x16>{}) == scalar);
+#endif
+  // The same build run twice.
+  CHECK(run(std::type_identity<float>{}) == scalar);
+}
+
+TEST_CASE("world: bad input is rejected or contained", "[world][bad-input]") {
+  World w;
+  BodyId const ground = add_ground(w);
+  BodyDef def;
+  def.shape = Cuboid{Vec3::splat(0.5f)};
+  def.pose = Iso3::from_translation({0.0f, 0.5f, 0.0f});
+
+  BodyDef bad = def;
+  bad.pose.translation.x = NAN;
+  CHECK(w.create_body(bad).error == BodyError::non_finite);
+  bad = def;
+  bad.linear_velocity.y = INFINITY;
+  CHECK(w.create_body(bad).error == BodyError::non_finite);
+  bad = def;
+  bad.pose.rotation = Quat::from_xyzw(0.0f, 0.0f, 0.0f, 0.0f);
+  CHECK(w.create_body(bad).error == BodyError::non_finite);
+  bad = def;
+  bad.density = 0.0f;
+  CHECK(w.create_body(bad).error == BodyError::zero_mass);
+  bad = def;
+  bad.shape = Cuboid{Vec3{1.0f, 0.0f, 1.0f}}; // flat: no volume
+  CHECK(w.create_body(bad).error == BodyError::zero_mass);
+  bad = def;
+  bad.friction = -1.0f;
+  CHECK(w.create_body(bad).error == BodyError::bad_material);
+  CHECK_FALSE(w.create_body(bad));
+  CHECK(w.body_count() == 1); // nothing was added
+  CHECK(to_string(BodyError::zero_mass).size() > 0);
+
+  // A static body needs no mass; a massless static shape is fine.
+  BodyDef wall = def;
+  wall.type = BodyType::static_body;
+  wall.density = 0.0f;
+  wall.pose = Iso3::from_translation({5.0f, 0.5f, 0.0f});
+  CHECK(w.create_body(wall));
+
+  BodyId const box = w.create_body(def).id;
+  std::uint64_t const before = w.state_hash();
+  CHECK(w.set_velocity(box, {NAN, 0.0f, 0.0f}, Vec3{}) == BodyError::non_finite);
+  CHECK(w.set_pose(box, Iso3::from_translation({0.0f, INFINITY, 0.0f})) == BodyError::non_finite);
+  CHECK(w.set_velocity(BodyId{999}, Vec3{}, Vec3{}) == BodyError::bad_body);
+  CHECK(w.state_hash() == before);
+  w.step(0.0f);
+  w.step(-dt);
+  w.step(NAN);
+  w.step(INFINITY);
+  CHECK(w.state_hash() == before); // ignored
+
+  // Absurd but finite velocities: clamped (max_linear_speed), nothing turns non-finite.
+  CHECK(w.set_velocity(box, {3e38f, -3e38f, 1e30f}, {1e30f, 0.0f, 0.0f}) == BodyError::none);
+  w.step(dt);
+  CHECK(all_finite(w));
+  CHECK(w.linear_velocity(box).length() <= w.config().max_linear_speed * 1.0001f);
+  CHECK(w.frozen_bodies().empty());
+  CHECK(w.linear_velocity(ground).length() == 0.0f);
+}
+
+TEST_CASE("world: a 1:1000 mass ratio stack stays finite and above the ground",
+          "[world][bad-input]") {
+  World w;
+  add_ground(w);
+  BodyDef def;
+  def.shape = Cuboid{Vec3::splat(0.5f)};
+  def.density = 1.0f;
+  def.pose = Iso3::from_translation({0.0f, 0.5f, 0.0f});
+  BodyId const light = w.create_body(def).id;
+  def.density = 1000.0f;
+  def.pose = Iso3::from_translation({0.0f, 1.5f, 0.0f});
+  BodyId const heavy = w.create_body(def).id;
+  for (int s = 0; s < 300; ++s)
+    w.step(dt);
+  CHECK(all_finite(w));
+  INFO("light box bottom " << w.aabb(light).min.y << ", heavy box bottom " << w.aabb(heavy).min.y);
+  // Soft contacts sag under a 1000x load (a spring of the light box's effective mass carries
+  // the heavy one): measured 1.8 cm into the ground and 6.9 cm into the light box. Neither
+  // passes through.
+  CHECK(w.aabb(light).min.y > -0.05f);
+  CHECK(w.pose(heavy).translation.y > w.pose(light).translation.y + 0.8f);
+  CHECK(std::abs(w.pose(heavy).translation.x) < 0.05f);
+}
+
+TEST_CASE("world: a kinematic body moves at its velocity and pushes dynamic ones", "[world]") {
+  World w;
+  add_ground(w, 0.0f);
+  BodyDef pusher;
+  pusher.type = BodyType::kinematic;
+  pusher.shape = Cuboid{Vec3::splat(0.5f)};
+  pusher.pose = Iso3::from_translation({-2.0f, 0.5f, 0.0f});
+  pusher.linear_velocity = {1.0f, 0.0f, 0.0f};
+  BodyId const k = w.create_body(pusher).id;
+  BodyDef box;
+  box.shape = Cuboid{Vec3::splat(0.5f)};
+  box.friction = 0.0f;
+  box.pose = Iso3::from_translation({0.0f, 0.5f, 0.0f});
+  BodyId const b = w.create_body(box).id;
+  for (int s = 0; s < 180; ++s)
+    w.step(dt);
+  CHECK(w.pose(k).translation.x == Approx(1.0f).margin(1e-3)); // -2 + 3 s * 1 m/s
+  CHECK(w.linear_velocity(k).x == 1.0f);                       // never pushed back
+  CHECK(w.pose(b).translation.x > w.pose(k).translation.x + 1.0f - slop);
+}
