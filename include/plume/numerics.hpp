@@ -19,5 +19,6 @@
 #include <plume/numerics/memory.hpp>
 #include <plume/numerics/reduce.hpp>
 #include <plume/numerics/traits.hpp>
+#include <plume/numerics/transpose.hpp>
 #include <plume/numerics/trig.hpp>
 #include <plume/numerics/wide.hpp>

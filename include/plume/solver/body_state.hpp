@@ -17,11 +17,13 @@
 #include <plume/numerics.hpp>
 
 #include <array>
-#include <cstddef>
+#include <cstddef> // offsetof
 #include <cstdint>
 
 namespace plume {
 
+/// Field order and padding are part of the contract: gather_states() and
+/// scatter_velocities() move the record as 16 floats (v, pad, w, pad, dp, pad, dq).
 struct alignas(64) BodyState {
   Vec3 linear_velocity{};
   float pad0 = 0.0f;
@@ -32,6 +34,10 @@ struct alignas(64) BodyState {
   Quat delta_rotation = Quat::IDENTITY;
 };
 static_assert(sizeof(BodyState) == 64, "BodyState is one cache line");
+static_assert(offsetof(BodyState, angular_velocity) == 16 &&
+                  offsetof(BodyState, delta_position) == 32 &&
+                  offsetof(BodyState, delta_rotation) == 48 && sizeof(Vec3) == 12,
+              "gather_states() reads a BodyState as 16 floats");
 
 template <Real T>
 struct GBodyState {
@@ -50,26 +56,15 @@ PLUME_INLINE GBodyState<T> gather_states(BodyState const* states,
     BodyState const& r = states[index[0]];
     return {r.linear_velocity, r.angular_velocity, r.delta_position, r.delta_rotation};
   } else {
-    alignas(64) float f[13][W];
-    for (std::size_t i = 0; i < W; ++i) {
-      BodyState const& r = states[index[i]];
-      f[0][i] = r.linear_velocity.x;
-      f[1][i] = r.linear_velocity.y;
-      f[2][i] = r.linear_velocity.z;
-      f[3][i] = r.angular_velocity.x;
-      f[4][i] = r.angular_velocity.y;
-      f[5][i] = r.angular_velocity.z;
-      f[6][i] = r.delta_position.x;
-      f[7][i] = r.delta_position.y;
-      f[8][i] = r.delta_position.z;
-      f[9][i] = r.delta_rotation.x;
-      f[10][i] = r.delta_rotation.y;
-      f[11][i] = r.delta_rotation.z;
-      f[12][i] = r.delta_rotation.w;
-    }
-    auto const l = [&](int k) { return load_aligned<T>(f[k]); };
+    // One record is 16 floats: v, pad, w, pad, dp, pad, dq. Two 8x8 (or four 4x4)
+    // transposes turn W records into 16 columns.
+    float const* rows[W];
+    for (std::size_t i = 0; i < W; ++i)
+      rows[i] = &states[index[i]].linear_velocity.x;
+    T c[16];
+    load_transposed<T, 16>(rows, c);
     return {
-        {l(0), l(1), l(2)}, {l(3), l(4), l(5)}, {l(6), l(7), l(8)}, {l(9), l(10), l(11), l(12)}};
+        {c[0], c[1], c[2]}, {c[4], c[5], c[6]}, {c[8], c[9], c[10]}, {c[12], c[13], c[14], c[15]}};
   }
 }
 
@@ -84,19 +79,14 @@ PLUME_INLINE void scatter_velocities(BodyState* states, std::int32_t const* writ
     r.linear_velocity = b.linear_velocity;
     r.angular_velocity = b.angular_velocity;
   } else {
-    alignas(64) float f[6][W];
-    store_aligned(f[0], b.linear_velocity.x);
-    store_aligned(f[1], b.linear_velocity.y);
-    store_aligned(f[2], b.linear_velocity.z);
-    store_aligned(f[3], b.angular_velocity.x);
-    store_aligned(f[4], b.angular_velocity.y);
-    store_aligned(f[5], b.angular_velocity.z);
-    for (std::size_t i = 0; i < W; ++i) {
-      if (write[i] < 0) continue;
-      BodyState& r = states[write[i]];
-      r.linear_velocity = {f[0][i], f[1][i], f[2][i]};
-      r.angular_velocity = {f[3][i], f[4][i], f[5][i]};
-    }
+    // The record's first 8 floats (v, pad, w, pad) are written whole, one row per lane.
+    float* rows[W];
+    for (std::size_t i = 0; i < W; ++i)
+      rows[i] = write[i] >= 0 ? &states[write[i]].linear_velocity.x : nullptr;
+    T const z = zero<T>();
+    T const c[8] = {b.linear_velocity.x,  b.linear_velocity.y,  b.linear_velocity.z,  z,
+                    b.angular_velocity.x, b.angular_velocity.y, b.angular_velocity.z, z};
+    store_transposed<T, 8>(c, rows);
   }
 }
 
