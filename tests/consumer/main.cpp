@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
 #include <vector>
 
 template <plume::Real T>
@@ -87,8 +88,29 @@ int main() {
                           std::abs(m.min_separation() + 0.1f) < 1e-4f;
   std::printf("consumer: hull %zu faces, mass %g, distance %g, toi %g, depth %g, %d contacts\n",
               rock.faces().size(), mass.mass, d.distance, sweep.toi, p.depth, m.count);
+  // The README's world example, with a 4-layer pyramid (30 boxes) to stay quick, solved at
+  // the widest width and at x1: the same bits.
+  auto const run_world = [](bool scalar) {
+    World world;
+    add_ground(world);
+    std::vector<BodyId> boxes = add_box_pyramid(world, 4);
+    BodyDef ball;
+    ball.shape = Sphere{0.25f};
+    ball.restitution = 0.5f;
+    ball.pose = Iso3::from_translation({0, 20, 0});
+    CreateBodyResult made = world.create_body(ball);
+    if (!made) std::puts(to_string(made.error).data());
+    for (int i = 0; i < 120; ++i)
+      scalar ? world.step_with<float>(1.0f / 60.0f) : world.step(1.0f / 60.0f);
+    Iso3 const top = world.pose(boxes.back());
+    return std::pair{top.translation.y, world.state_hash()};
+  };
+  auto const [top_y, hash] = run_world(false);
+  bool const world_ok = std::abs(top_y - 3.5f) < 0.05f && run_world(true).second == hash;
+  std::printf("consumer: pyramid top at y = %g, world hash %016llx\n", top_y,
+              (unsigned long long)hash);
   return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok && solver_ok &&
-          ray_ok && contact_ok)
+          ray_ok && contact_ok && world_ok)
              ? 0
              : 1;
 }
