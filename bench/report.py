@@ -34,6 +34,9 @@ def load(paths):
             if ips is None:
                 continue
             name = b.get("run_name", b["name"])
+            for suffix in ("/manual_time", "/real_time"):  # timing-mode tags, not the width
+                if name.endswith(suffix):
+                    name = name[: -len(suffix)]
             parts = name.split("/")
             if len(parts) < 4 or not parts[-1].startswith("x"):
                 continue

@@ -157,6 +157,36 @@ TEST_CASE("world: a box on a slope stays when mu > tan(theta), else slides at "
   }
 }
 
+TEST_CASE("world: spheres roll down a ramp at 5/7 g sin(theta)", "[world]") {
+  // A solid sphere rolling without slipping (friction above 2/7 tan(theta)) accelerates at
+  // 5/7 g sin(theta) and spins at v / r; a frictionless one slides at g sin(theta).
+  float const th = 20.0f * std::numbers::pi_v<float> / 180.0f;
+  for (float const mu : {0.6f, 0.0f}) {
+    World w;
+    std::vector<BodyId> const ids = add_rolling_spheres(w, th, 3, 0.25f, mu);
+    Vec3 const p0 = w.pose(ids[1]).translation;
+    int const steps = 90;
+    for (int s = 0; s < steps; ++s)
+      w.step(dt);
+    float const t = float(steps) * dt;
+    Vec3 const downhill{-std::cos(th), -std::sin(th), 0.0f};
+    float const a = (mu > 0.0f ? 5.0f / 7.0f : 1.0f) * 9.81f * std::sin(th);
+    for (std::size_t i = 1; i < ids.size(); ++i) {
+      float const speed = w.linear_velocity(ids[i]).dot(downhill);
+      float const spin = w.angular_velocity(ids[i]).z; // rolling downhill spins about +z
+      INFO("mu " << mu << ", sphere " << i << ": speed " << speed << ", expected " << a * t
+                 << ", spin " << spin);
+      CHECK(speed == Approx(a * t).epsilon(0.01));
+      if (mu > 0.0f)
+        CHECK(spin * 0.25f == Approx(speed).epsilon(0.01));
+      else
+        CHECK(std::abs(spin) < 1e-3f);
+    }
+    float const along = (w.pose(ids[1]).translation - p0).dot(downhill);
+    CHECK(along == Approx(0.5f * a * t * t).epsilon(0.02));
+  }
+}
+
 TEST_CASE("world: the 20-box stack stands for 10 s", "[world][stability]") {
   World w;
   add_ground(w);

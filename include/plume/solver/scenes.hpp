@@ -8,6 +8,8 @@
 //                                         15 layers = 1,240 boxes (Jolt's pyramid)
 //   add_box_stack(world, count, size)     a column of cubes
 //   add_ramp(world, angle, ...)           a static slab tilted about z by `angle` (rad)
+//   add_rolling_spheres(world, angle, n)  a ramp with n spheres resting on it side by side
+//   add_ball(world, position, radius, e)  one dynamic sphere (a bouncing ball for e > 0)
 #pragma once
 
 #include <plume/solver/world.hpp>
@@ -76,6 +78,33 @@ inline BodyId add_ramp(World& world, float angle, Vec3 top_center, float length 
   def.pose = Iso3{r, top_center - r * Vec3{0.0f, 0.5f, 0.0f}};
   def.friction = friction;
   return world.create_body(def).id;
+}
+
+/// A dynamic sphere of `radius` at `position` with restitution `restitution`.
+inline BodyId add_ball(World& world, Vec3 position, float radius = 0.25f, float restitution = 0.5f,
+                       float friction = 0.6f, float density = 1000.0f) {
+  BodyDef def;
+  def.shape = Sphere{radius};
+  def.pose = Iso3::from_translation(position);
+  def.restitution = restitution;
+  def.friction = friction;
+  def.density = density;
+  return world.create_body(def).id;
+}
+
+/// A ramp tilted by `angle` (rad, about +z, its top face through the origin, 40 m long) with
+/// `count` spheres of `radius` resting on its top face 1 m apart along z, at rest: they roll
+/// down along (-cos a, -sin a, 0). Returns the ramp, then the spheres.
+inline std::vector<BodyId> add_rolling_spheres(World& world, float angle, int count,
+                                               float radius = 0.25f, float friction = 0.6f) {
+  std::vector<BodyId> ids;
+  ids.push_back(add_ramp(world, angle, Vec3{}, 40.0f, float(count) + 1.0f, friction));
+  Quat const r = Quat::from_rotation_z(angle);
+  for (int i = 0; i < count; ++i) {
+    float const z = float(i) - 0.5f * float(count - 1);
+    ids.push_back(add_ball(world, r * Vec3{0.0f, radius, z}, radius, 0.0f, friction));
+  }
+  return ids;
 }
 
 } // namespace plume
