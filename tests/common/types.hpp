@@ -27,6 +27,22 @@ using wide_real_types = std::tuple<
 using real_types = decltype(std::tuple_cat(std::declval<std::tuple<float, double>>(),
                                            std::declval<wide_real_types>()));
 
+/// float and every f32 width of the build (kernels that are float-only, like the solver's).
+using f32_types = std::tuple<float
+#if PLUME_HAS_BATCHES
+                             ,
+                             f32x4
+#endif
+#if PLUME_HAS_AVX2
+                             ,
+                             f32x8
+#endif
+#if PLUME_HAS_AVX512
+                             ,
+                             f32x16
+#endif
+                             >;
+
 using int_types = std::tuple<std::int32_t, std::uint32_t
 #if PLUME_HAS_BATCHES
                              ,

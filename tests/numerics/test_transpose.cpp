@@ -1,6 +1,7 @@
 // load_transposed / store_transposed: every lane and column against a plain loop, rows that
 // are null left untouched, at every f32 width of the build.
 #include "../common/harness.hpp"
+#include "../common/types.hpp"
 
 #include <plume/numerics.hpp>
 
@@ -12,24 +13,8 @@
 
 using namespace plume;
 
-namespace {
-using f32_types = std::tuple<float
-#if PLUME_HAS_BATCHES
-                             ,
-                             f32x4
-#endif
-#if PLUME_HAS_AVX2
-                             ,
-                             f32x8
-#endif
-#if PLUME_HAS_AVX512
-                             ,
-                             f32x16
-#endif
-                             >;
-} // namespace
-
-TEMPLATE_LIST_TEST_CASE("transpose: rows to lanes and back", "[numerics][transpose]", f32_types) {
+TEMPLATE_LIST_TEST_CASE("transpose: rows to lanes and back", "[numerics][transpose]",
+                        plume::test::f32_types) {
   using T = TestType;
   constexpr std::size_t W = lanes_v<T>, K = 16;
   struct alignas(64) Row {

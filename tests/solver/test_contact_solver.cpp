@@ -20,21 +20,6 @@ using plume::test::same_bits;
 
 namespace {
 
-using f32_types =
-    decltype(std::tuple_cat(std::declval<std::tuple<float>>(), std::declval<std::tuple<
-#if PLUME_HAS_BATCHES
-                                                                   f32x4
-#endif
-#if PLUME_HAS_AVX2
-                                                                   ,
-                                                                   f32x8
-#endif
-#if PLUME_HAS_AVX512
-                                                                   ,
-                                                                   f32x16
-#endif
-                                                                   >>()));
-
 Mat3 random_inv_inertia(std::mt19937& rng) {
   std::uniform_real_distribution<float> u(0.2f, 2.0f), a(-3.0f, 3.0f);
   Quat const q = Quat::from_axis_angle(Vec3{a(rng), a(rng), a(rng)}.normalize(), a(rng));
@@ -127,7 +112,7 @@ TEST_CASE("constraint graph: no dynamic body twice in a colour; static contacts 
 }
 
 TEMPLATE_LIST_TEST_CASE("contact kernels: every lane equals the float kernel bit for bit",
-                        "[solver][lane-exact]", f32_types) {
+                        "[solver][lane-exact]", plume::test::f32_types) {
   using T = TestType;
   constexpr std::size_t W = lanes_v<T>;
   std::mt19937 rng(1234);

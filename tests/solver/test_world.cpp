@@ -64,6 +64,16 @@ StabilityResult run_stability(World& w, std::vector<BodyId> const& ids, int step
   return r;
 }
 
+/// The issue's criteria: the top box moves less than 5% of its 1 m size, no body sinks below
+/// the ground by more than the slop, and the kinetic energy does not grow.
+void check_standing(StabilityResult const& r) {
+  INFO("top drift " << r.top_drift << " m, lowest " << r.lowest << " m, max KE 2-5 s "
+                    << r.energy_early << " J, over the last 2 s " << r.energy_late << " J");
+  CHECK(r.top_drift < 0.05f);
+  CHECK(r.lowest > -slop);
+  CHECK(r.energy_late <= std::max(r.energy_early, r.energy_floor)); // not growing
+}
+
 } // namespace
 
 TEST_CASE("world: a box dropped on the ground comes to rest within the slop", "[world]") {
@@ -116,7 +126,8 @@ TEST_CASE("world: a ball with restitution e bounces to e^2 of its drop height", 
     }
     INFO("e = " << e << ", apex " << apex << ", expected " << e * e * h0);
     REQUIRE(bounced);
-    // Discrete time: impact speed and apex are sampled at 60 Hz steps (about 1% each).
+    // Restitution uses the approach speed at the start of the step (Box2D's choice), which
+    // lacks up to one step of gravity: measured apex 2.7% low for e = 0.5, 1.1% for e = 0.8.
     CHECK(apex == Approx(e * e * h0).epsilon(0.03));
   }
 }
@@ -192,11 +203,7 @@ TEST_CASE("world: the 20-box stack stands for 10 s", "[world][stability]") {
   add_ground(w);
   std::vector<BodyId> const ids = add_box_stack(w, 20);
   StabilityResult const r = run_stability(w, ids, 600);
-  INFO("top drift " << r.top_drift << " m, lowest " << r.lowest << " m, max KE 2-5 s "
-                    << r.energy_early << " J, over the last 2 s " << r.energy_late << " J");
-  CHECK(r.top_drift < 0.05f);
-  CHECK(r.lowest > -slop);
-  CHECK(r.energy_late <= std::max(r.energy_early, r.energy_floor)); // not growing
+  check_standing(r);
 }
 
 TEST_CASE("world: the 15-layer pyramid (1,240 boxes) stands for 10 s", "[world][stability]") {
@@ -205,11 +212,7 @@ TEST_CASE("world: the 15-layer pyramid (1,240 boxes) stands for 10 s", "[world][
   std::vector<BodyId> const ids = add_box_pyramid(w, 15);
   REQUIRE(ids.size() == 1240);
   StabilityResult const r = run_stability(w, ids, 600);
-  INFO("top drift " << r.top_drift << " m, lowest " << r.lowest << " m, max KE 2-5 s "
-                    << r.energy_early << " J, over the last 2 s " << r.energy_late << " J");
-  CHECK(r.top_drift < 0.05f);
-  CHECK(r.lowest > -slop);
-  CHECK(r.energy_late <= std::max(r.energy_early, r.energy_floor)); // not growing
+  check_standing(r);
   CHECK(all_finite(w));
 }
 

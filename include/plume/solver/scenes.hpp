@@ -28,15 +28,21 @@ inline BodyId add_ground(World& world, float friction = 0.6f) {
   return world.create_body(def).id;
 }
 
+/// A dynamic cube of edge `size` (pose left at the origin).
+inline BodyDef cube_def(float size, float density, float friction) {
+  BodyDef def;
+  def.shape = Cuboid{Vec3::splat(0.5f * size)};
+  def.density = density;
+  def.friction = friction;
+  return def;
+}
+
 /// Cubes of edge `size` in a pyramid of `layers` layers resting on y = 0, centred on x = z = 0.
 /// Returns the boxes bottom layer first; the last one is the top box.
 inline std::vector<BodyId> add_box_pyramid(World& world, int layers, float size = 1.0f,
                                            float density = 1000.0f, float friction = 0.6f) {
   std::vector<BodyId> ids;
-  BodyDef def;
-  def.shape = Cuboid{Vec3::splat(0.5f * size)};
-  def.density = density;
-  def.friction = friction;
+  BodyDef def = cube_def(size, density, friction);
   for (int i = 0; i < layers; ++i) {
     int const n = layers - i;
     float const y = (0.5f + float(i)) * size;
@@ -55,10 +61,7 @@ inline std::vector<BodyId> add_box_pyramid(World& world, int layers, float size 
 inline std::vector<BodyId> add_box_stack(World& world, int count, float size = 1.0f,
                                          float density = 1000.0f, float friction = 0.6f) {
   std::vector<BodyId> ids;
-  BodyDef def;
-  def.shape = Cuboid{Vec3::splat(0.5f * size)};
-  def.density = density;
-  def.friction = friction;
+  BodyDef def = cube_def(size, density, friction);
   for (int i = 0; i < count; ++i) {
     def.pose = Iso3::from_translation({0.0f, (0.5f + float(i)) * size, 0.0f});
     ids.push_back(world.create_body(def).id);
