@@ -35,8 +35,8 @@ double seconds_since(clock::time_point t0) {
 }
 
 bool finite(float x) { return std::isfinite(x); }
-bool finite(Vec3 const& v) { return finite(v.x) && finite(v.y) && finite(v.z); }
-bool finite(Quat const& q) { return finite(q.x) && finite(q.y) && finite(q.z) && finite(q.w); }
+bool finite(Vec3 const& v) { return v.is_finite(); }
+bool finite(Quat const& q) { return q.is_finite(); }
 
 MassProperties shape_mass(BodyShape const& shape, float density) {
   return std::visit(
@@ -59,8 +59,9 @@ Manifold collide(BodyShape const& a, Iso3 const& pa, BodyShape const& b, Iso3 co
       [&](auto const& sa, auto const& sb) { return contact_manifold(sa, pa, sb, pb, cfg); }, a, b);
 }
 
-/// v scaled down to length at most max (robust to components whose squares overflow).
-Vec3 clamp_length(Vec3 const& v, float max) {
+/// v scaled down to length at most max. Not GVec3::clamp_length_max: for components near
+/// FLT_MAX the squared length overflows to inf and that scales v to 0; this one rescales first.
+Vec3 clamp_speed(Vec3 const& v, float max) {
   float const len = v.length();
   if (len <= max) return v;
   float const m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
@@ -299,8 +300,8 @@ void World::integrate_velocities(float h) {
     BodyState& s = states_[i];
     Vec3 v = s.linear_velocity * (1.0f / (1.0f + h * b.linear_damping)) + g * (h * b.gravity_scale);
     Vec3 w = s.angular_velocity * (1.0f / (1.0f + h * b.angular_damping));
-    s.linear_velocity = clamp_length(v, config_.max_linear_speed);
-    s.angular_velocity = clamp_length(w, max_w);
+    s.linear_velocity = clamp_speed(v, config_.max_linear_speed);
+    s.angular_velocity = clamp_speed(w, max_w);
   }
 }
 

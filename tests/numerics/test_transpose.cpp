@@ -4,6 +4,7 @@
 #include "../common/types.hpp"
 
 #include <plume/numerics.hpp>
+#include <plume/numerics/transpose.hpp>
 
 #include <catch2/catch.hpp>
 

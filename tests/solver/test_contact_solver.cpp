@@ -4,8 +4,10 @@
 #include "../common/harness.hpp"
 #include "../common/types.hpp"
 
+#include <plume/solver/body_state.hpp>
 #include <plume/solver/constraint_graph.hpp>
 #include <plume/solver/contact_constraint.hpp>
+#include <plume/solver/lane_storage.hpp>
 #include <plume/solver/softness.hpp>
 
 #include <catch2/catch.hpp>
@@ -78,6 +80,8 @@ TEST_CASE("constraint graph: no dynamic body twice in a colour; static contacts 
   CHECK(g.add(9, 0, false, true) == ConstraintGraph::color_count - 2);
   CHECK(g.add(9, 3, false, true) == ConstraintGraph::color_count - 1);
   CHECK(g.add(8, 9, false, false) == ConstraintGraph::overflow); // nothing to solve
+  g.release(ConstraintGraph::overflow, 0, 1, true, true);        // no-op: overflow holds no bits
+  CHECK((g.test(0, 0) && g.test(0, 1)));
   // Release frees exactly the constraint's bits.
   g.release(1, 1, 2, true, true);
   CHECK(g.add(2, 3, true, true) == 0);
@@ -109,6 +113,81 @@ TEST_CASE("constraint graph: no dynamic body twice in a colour; static contacts 
     std::sort(m.begin(), m.end());
     CHECK(std::adjacent_find(m.begin(), m.end()) == m.end());
   }
+}
+
+TEMPLATE_LIST_TEST_CASE("body states: gather and scatter move exactly the named records",
+                        "[solver][lane-exact]", plume::test::f32_types) {
+  using T = TestType;
+  constexpr std::size_t W = lanes_v<T>;
+  std::vector<BodyState> states(2 * W + 1);
+  for (std::size_t r = 0; r < states.size(); ++r) {
+    float const b = float(r) * 100.0f;
+    states[r].linear_velocity = {b + 1, b + 2, b + 3};
+    states[r].angular_velocity = {b + 4, b + 5, b + 6};
+    states[r].delta_position = {b + 7, b + 8, b + 9};
+    states[r].delta_rotation = Quat::from_xyzw(b + 10, b + 11, b + 12, b + 13);
+  }
+  std::array<std::int32_t, W> index{}, write{};
+  for (std::size_t i = 0; i < W; ++i) {
+    index[i] = std::int32_t((2 * i + 1) % states.size()); // scattered, not in order
+    write[i] = i % 3 == 1 ? -1 : index[i];                // some lanes static
+  }
+  GBodyState<T> const g = gather_states<T>(states.data(), index.data());
+  for (std::size_t i = 0; i < W; ++i) {
+    BodyState const& r = states[std::size_t(index[i])];
+    CHECK(same_vec(lane(g.linear_velocity, i), r.linear_velocity));
+    CHECK(same_vec(lane(g.angular_velocity, i), r.angular_velocity));
+    CHECK(same_vec(lane(g.delta_position, i), r.delta_position));
+    CHECK(lane(g.delta_rotation.w, i) == r.delta_rotation.w);
+    CHECK(lane(g.delta_rotation.x, i) == r.delta_rotation.x);
+  }
+  GBodyState<T> neg = g;
+  neg.linear_velocity = -g.linear_velocity;
+  neg.angular_velocity = -g.angular_velocity;
+  std::vector<BodyState> before = states;
+  scatter_velocities<T>(states.data(), write.data(), neg);
+  for (std::size_t r = 0; r < states.size(); ++r) {
+    bool written = false;
+    for (std::size_t i = 0; i < W; ++i)
+      written = written || write[i] == std::int32_t(r);
+    INFO("record " << r);
+    Vec3 const want_v = written ? -before[r].linear_velocity : before[r].linear_velocity;
+    Vec3 const want_w = written ? -before[r].angular_velocity : before[r].angular_velocity;
+    CHECK(same_vec(states[r].linear_velocity, want_v));
+    CHECK(same_vec(states[r].angular_velocity, want_w));
+    CHECK(same_vec(states[r].delta_position, before[r].delta_position)); // never written
+  }
+
+  // LaneArray / LaneVec3: lane writes and whole reads agree.
+  LaneVec3<T> lv;
+  for (std::size_t i = 0; i < W; ++i)
+    lv.set_lane(i, {float(i), -float(i), 0.5f * float(i)});
+  GVec3<T> const v = lv.get();
+  for (std::size_t i = 0; i < W; ++i) {
+    CHECK(same_vec(lane(v, i), lv.lane(i)));
+    CHECK(lv.lane(i).y == -float(i));
+  }
+}
+
+TEST_CASE("contact tangent: continuous from the previous one, a fallback when degenerate",
+          "[solver]") {
+  Vec3 const n = Vec3{0.1f, 1.0f, -0.05f}.normalize();
+  Vec3 const t = contact_tangent(n, Vec3::X);
+  CHECK(std::abs(t.dot(n)) < 1e-6f);
+  CHECK(std::abs(t.length() - 1.0f) < 1e-6f);
+  CHECK(t.dot(Vec3::X) > 0.99f); // the previous axis projected, not a new basis
+  // Degenerate previous tangents: zero, NaN, along the normal -> any_orthonormal_pair()[0].
+  Vec3 const fallback = n.any_orthonormal_pair()[0];
+  for (Vec3 const prev : {Vec3{}, Vec3{NAN, 0.0f, 0.0f}, n * 3.0f}) {
+    Vec3 const f = contact_tangent(n, prev);
+    CHECK(same_vec(f, fallback));
+  }
+  // Near n.z = 0 any_orthonormal_pair flips its basis; the carried tangent does not.
+  Vec3 const na = Vec3{1.0f, 0.0f, 1e-6f}.normalize(), nb = Vec3{1.0f, 0.0f, -1e-6f}.normalize();
+  Vec3 const ta = contact_tangent(na, Vec3{});
+  Vec3 const tb = contact_tangent(nb, ta);
+  CHECK(ta.dot(tb) > 0.999f);
+  CHECK(na.any_orthonormal_pair()[0].dot(nb.any_orthonormal_pair()[0]) < 0.0f);
 }
 
 TEMPLATE_LIST_TEST_CASE("contact kernels: every lane equals the float kernel bit for bit",

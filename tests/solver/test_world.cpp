@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 #include <vector>
 
 using namespace plume;
@@ -162,8 +163,8 @@ TEST_CASE("world: a box on a slope stays when mu > tan(theta), else slides at "
       CHECK(std::abs(along) < 1e-3f);
       CHECK(std::abs(speed) < 1e-3f);
     } else {
-      CHECK(speed == Approx(a * t).epsilon(0.01));
-      CHECK(along == Approx(0.5f * a * t * t).epsilon(0.02));
+      CHECK(speed == Approx(a * t).epsilon(1e-3));            // measured 6e-5
+      CHECK(along == Approx(0.5f * a * t * t).epsilon(5e-3)); // measured 2e-3 (substeps)
     }
   }
 }
@@ -187,14 +188,14 @@ TEST_CASE("world: spheres roll down a ramp at 5/7 g sin(theta)", "[world]") {
       float const spin = w.angular_velocity(ids[i]).z; // rolling downhill spins about +z
       INFO("mu " << mu << ", sphere " << i << ": speed " << speed << ", expected " << a * t
                  << ", spin " << spin);
-      CHECK(speed == Approx(a * t).epsilon(0.01));
+      CHECK(speed == Approx(a * t).epsilon(2e-3)); // measured 5e-4
       if (mu > 0.0f)
-        CHECK(spin * 0.25f == Approx(speed).epsilon(0.01));
+        CHECK(spin * 0.25f == Approx(speed).epsilon(5e-3)); // measured 3.5e-3 (soft contact)
       else
         CHECK(std::abs(spin) < 1e-3f);
     }
     float const along = (w.pose(ids[1]).translation - p0).dot(downhill);
-    CHECK(along == Approx(0.5f * a * t * t).epsilon(0.02));
+    CHECK(along == Approx(0.5f * a * t * t).epsilon(5e-3));
   }
 }
 
@@ -276,7 +277,9 @@ TEST_CASE("world: bad input is rejected or contained", "[world][bad-input]") {
   CHECK(w.create_body(bad).error == BodyError::bad_material);
   CHECK_FALSE(w.create_body(bad));
   CHECK(w.body_count() == 1); // nothing was added
-  CHECK(to_string(BodyError::zero_mass).size() > 0);
+  CHECK(to_string(BodyError::zero_mass) == "dynamic body without a positive finite mass");
+  CHECK(w.set_pose(BodyId{999}, Iso3{}) == BodyError::bad_body);
+  CHECK_THROWS_AS(w.pose(BodyId{999}), std::out_of_range);
 
   // A static body needs no mass; a massless static shape is fine.
   BodyDef wall = def;
@@ -289,6 +292,8 @@ TEST_CASE("world: bad input is rejected or contained", "[world][bad-input]") {
   std::uint64_t const before = w.state_hash();
   CHECK(w.set_velocity(box, {NAN, 0.0f, 0.0f}, Vec3{}) == BodyError::non_finite);
   CHECK(w.set_pose(box, Iso3::from_translation({0.0f, INFINITY, 0.0f})) == BodyError::non_finite);
+  CHECK(w.set_pose(box, Iso3{Quat::from_xyzw(0.0f, 0.0f, 0.0f, 0.0f), Vec3{}}) ==
+        BodyError::non_finite);
   CHECK(w.set_velocity(BodyId{999}, Vec3{}, Vec3{}) == BodyError::bad_body);
   CHECK(w.state_hash() == before);
   w.step(0.0f);

@@ -15,6 +15,7 @@
 #include <plume/math/quat.hpp>
 #include <plume/math/vec3.hpp>
 #include <plume/numerics.hpp>
+#include <plume/numerics/transpose.hpp>
 
 #include <array>
 #include <cstddef> // offsetof
@@ -47,47 +48,36 @@ struct GBodyState {
   GQuat<T> delta_rotation;
 };
 
-/// Lane i of the result is states[index[i]].
+/// Lane i of the result is states[index[i]] (every index must name a record: no checks).
 template <Real T>
 PLUME_INLINE GBodyState<T> gather_states(BodyState const* states,
                                          std::int32_t const* index) noexcept {
+  // One record is 16 floats: v, pad, w, pad, dp, pad, dq. Register transposes (a plain copy
+  // for T = float) turn W records into 16 columns.
   constexpr std::size_t W = lanes_v<T>;
-  if constexpr (W == 1) {
-    BodyState const& r = states[index[0]];
-    return {r.linear_velocity, r.angular_velocity, r.delta_position, r.delta_rotation};
-  } else {
-    // One record is 16 floats: v, pad, w, pad, dp, pad, dq. Two 8x8 (or four 4x4)
-    // transposes turn W records into 16 columns.
-    float const* rows[W];
-    for (std::size_t i = 0; i < W; ++i)
-      rows[i] = &states[index[i]].linear_velocity.x;
-    T c[16];
-    load_transposed<T, 16>(rows, c);
-    return {
-        {c[0], c[1], c[2]}, {c[4], c[5], c[6]}, {c[8], c[9], c[10]}, {c[12], c[13], c[14], c[15]}};
-  }
+  float const* rows[W];
+  for (std::size_t i = 0; i < W; ++i)
+    rows[i] = &states[index[i]].linear_velocity.x;
+  T c[16];
+  load_transposed<T, 16>(rows, c);
+  return {
+      {c[0], c[1], c[2]}, {c[4], c[5], c[6]}, {c[8], c[9], c[10]}, {c[12], c[13], c[14], c[15]}};
 }
 
-/// states[write[i]] gets lane i's velocities, for every lane with write[i] >= 0.
+/// states[write[i]] gets lane i's velocities, for every lane with write[i] >= 0 (its padding
+/// floats become 0; lanes with write[i] < 0 write nothing).
 template <Real T>
 PLUME_INLINE void scatter_velocities(BodyState* states, std::int32_t const* write,
                                      GBodyState<T> const& b) noexcept {
+  // The record's first 8 floats (v, pad, w, pad) are written whole, one row per lane.
   constexpr std::size_t W = lanes_v<T>;
-  if constexpr (W == 1) {
-    if (write[0] < 0) return;
-    BodyState& r = states[write[0]];
-    r.linear_velocity = b.linear_velocity;
-    r.angular_velocity = b.angular_velocity;
-  } else {
-    // The record's first 8 floats (v, pad, w, pad) are written whole, one row per lane.
-    float* rows[W];
-    for (std::size_t i = 0; i < W; ++i)
-      rows[i] = write[i] >= 0 ? &states[write[i]].linear_velocity.x : nullptr;
-    T const z = zero<T>();
-    T const c[8] = {b.linear_velocity.x,  b.linear_velocity.y,  b.linear_velocity.z,  z,
-                    b.angular_velocity.x, b.angular_velocity.y, b.angular_velocity.z, z};
-    store_transposed<T, 8>(c, rows);
-  }
+  float* rows[W];
+  for (std::size_t i = 0; i < W; ++i)
+    rows[i] = write[i] >= 0 ? &states[write[i]].linear_velocity.x : nullptr;
+  T const z = zero<T>();
+  T const c[8] = {b.linear_velocity.x,  b.linear_velocity.y,  b.linear_velocity.z,  z,
+                  b.angular_velocity.x, b.angular_velocity.y, b.angular_velocity.z, z};
+  store_transposed<T, 8>(c, rows);
 }
 
 } // namespace plume

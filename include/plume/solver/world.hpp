@@ -26,8 +26,11 @@
 // unchanged). Setters reject non-finite values the same way. A dynamic body whose state
 // turns non-finite during a step (absurd velocities) is put back where the step began,
 // stopped and frozen: it then acts as a static body, and frozen_bodies() reports it.
-// step() ignores dt <= 0 or non-finite. Sleeping is not implemented (every dynamic body is
-// simulated each step); a per-body flag would slot in where frozen bodies are skipped.
+// step() ignores dt <= 0 or non-finite. Accessors taking a BodyId throw std::out_of_range
+// for an id that names no body; setters return BodyError::bad_body instead.
+// Out of scope for this version (named, not stubbed): sleeping (every dynamic body is
+// simulated each step; a per-body flag would slot in where frozen bodies are skipped) and
+// compound bodies (one shape per body).
 #pragma once
 
 #include <plume/collision/convex_hull.hpp>
@@ -58,7 +61,7 @@ enum class BodyType : std::uint8_t {
   dynamic,     ///< moved by gravity and contacts
 };
 
-/// The shapes a body can have (one per body; compound bodies are future work).
+/// The shapes a body can have (one per body).
 using BodyShape = std::variant<Sphere, Capsule, Cuboid, Cylinder, ConvexHull, HalfSpace>;
 
 struct BodyDef {
