@@ -8,6 +8,11 @@
 
 #include <cstdint>
 
+/// Forces a kernel lambda inline into the timed loop: `[](T v) PLUME_BENCH_INLINE { ... }`.
+/// Without it g++ may keep a large lambda out of line, and the loop then times a call that
+/// reloads every constant per batch instead of the kernel.
+#define PLUME_BENCH_INLINE __attribute__((always_inline))
+
 namespace plume::bench {
 
 /// The timed loop: body() once per iteration; items_per_second counts `items` per iteration.

@@ -12,8 +12,11 @@ import mpmath as mp
 mp.mp.dps = 60
 
 
-def remez(f, a, b, deg, w=lambda t: 1 / abs(f(t)), iters=30):
-    """Minimax polynomial p of degree deg for f on [a,b], minimising max |w*(f-p)|."""
+def remez(f, a, b, deg, w=None, iters=30):
+    """Minimax polynomial p of degree deg for f on [a,b], minimising max |w*(f-p)|
+    (w defaults to 1/|f|: relative error)."""
+    if w is None:
+        w = lambda t: 1 / abs(f(t))
     n = deg + 2
     xs = [(a + b) / 2 + (b - a) / 2 * mp.cos(mp.pi * (n - 1 - i) / (n - 1)) for i in range(n)]
     coeffs = None
@@ -62,7 +65,7 @@ def show(name, coeffs, maxerr, kind):
 
 
 def fit(name, f, a, b, deg, kind, w=None):
-    c, e = remez(f, a, b, deg, w) if w else remez(f, a, b, deg)
+    c, e = remez(f, a, b, deg, w)
     show(name, c, e, kind)
 
 
@@ -88,7 +91,7 @@ jobs = {
     # smallest that keep the kernel's share of the final error under 0.1 ulp.
     "asin": (P_asin, 0, mp.mpf(1) / 4, 5, 13),
     "atan": (P_atan, 0, t8 ** 2, 5, 10),
-    "exp": (P_exp, -mp.log(2) / 2, mp.log(2) / 2, 5, 10),
+    "exp": (P_exp, -mp.log(2) / 2, mp.log(2) / 2, 4, 10),
     "exp2": (P_exp2, -mp.mpf(1) / 2, mp.mpf(1) / 2, 6, 11),
     "log": (P_log, 0, smax ** 2, 2, 6),
     "tan": (P_tan, 0, (mp.pi / 4) ** 2, 6, 15),

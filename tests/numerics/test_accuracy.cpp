@@ -173,6 +173,55 @@ void accuracy_suite() {
 }
 } // namespace
 
+/// The 2k + 1 values of S nearest to v (k ulps either side), for both signs if asked.
+template <class S>
+std::vector<S> around(S v, int k, bool both_signs) {
+  std::vector<S> out;
+  S lo = v, hi = v;
+  for (int i = 0; i < k; ++i) {
+    lo = std::nextafter(lo, S(0));
+    hi = std::nextafter(hi, std::numeric_limits<S>::infinity());
+  }
+  for (S x = lo; x <= hi; x = std::nextafter(x, std::numeric_limits<S>::infinity())) {
+    out.push_back(x);
+    if (both_signs) out.push_back(-x);
+  }
+  return out;
+}
+
+/// sin/cos/tan, exp/exp2 and log switch from their fast path to the general one at fixed
+/// limits (detail/coefficients.hpp); both sides of each edge must meet the bound.
+template <class S>
+void fast_path_edges() {
+  using W = typename ref<S>::W;
+  using C = detail::math_constants<S>;
+  auto const trig = around<S>(C::trig_fast_limit, 3000, true);
+  measure<S>(
+      "sin", [](S x) { return plume::sin(x); }, ref<S>::of([](W x) { return std::sin(x); }), trig);
+  measure<S>(
+      "cos", [](S x) { return plume::cos(x); }, ref<S>::of([](W x) { return std::cos(x); }), trig);
+  measure<S>(
+      "tan", [](S x) { return plume::tan(x); }, ref<S>::of([](W x) { return std::tan(x); }), trig);
+  measure<S>(
+      "exp", [](S x) { return plume::exp(x); }, ref<S>::of([](W x) { return std::exp(x); }),
+      around<S>(C::exp_fast_limit, 3000, true));
+  measure<S>(
+      "exp2", [](S x) { return plume::exp2(x); }, ref<S>::of([](W x) { return std::exp2(x); }),
+      around<S>(C::exp2_fast_limit, 3000, true));
+  auto const tiny = around<S>(std::numeric_limits<S>::min(), 3000, false);
+  measure<S>(
+      "log", [](S x) { return plume::log(x); }, ref<S>::of([](W x) { return std::log(x); }), tiny);
+  measure<S>(
+      "log2", [](S x) { return plume::log2(x); }, ref<S>::of([](W x) { return std::log2(x); }),
+      tiny);
+}
+
+TEST_CASE("fast-path edges are within 2 ulp on both sides", "[numerics][accuracy]") {
+  std::printf("Around the fast paths' limits:\n");
+  fast_path_edges<float>();
+  fast_path_edges<double>();
+}
+
 TEST_CASE("transcendental functions are within 2 ulp (float)", "[numerics][accuracy]") {
   std::printf("Accuracy against double libm:\n");
   accuracy_suite<float>();

@@ -2,13 +2,20 @@
 //
 //   exp exp2 expm1 (= e^x - 1, accurate near 0)     log log2 log1p (= log(1 + x))     pow(x, y)
 //
-// One code path over T, branch-free per lane. exp/exp2/expm1 reduce by ln 2 (Cody-Waite,
-// two-part constant) and scale by 2^n in two exact steps, so results that overflow give +inf
-// and results in the subnormal range are rounded once. log/log2/log1p split x into 2^e (1+f)
-// and evaluate log(1+f) = 2 atanh(f/(2+f)) (fdlibm's scheme); subnormal inputs are handled.
-// pow evaluates y * log2|x| in double-word (hi + lo, ~2p bits) before exp2, so it is accurate
-// for large y too. Accuracy, printed by the accuracy test: within 2 ulp everywhere for float
-// and double; most within 1.
+// One code path over T. exp/exp2/expm1 reduce by ln 2 (Cody-Waite, two-part constant) and
+// scale by 2^n; log/log2/log1p split x into 2^e (1+f) and evaluate log(1+f) = 2 atanh(f/(2+f))
+// (fdlibm's scheme). pow evaluates y * log2|x| in double-word (hi + lo, ~2p bits) before
+// exp2, so it is accurate for large y too.
+// exp, exp2 and log have a fast path for the usual inputs - exp/exp2 whose result is a
+// normal number (2^n added to the exponent field), log of a positive normal x (split in
+// integer steps). Other lanes (overflow, subnormal results or inputs, 0, negatives, inf,
+// NaN) take the general path: clamping and two-step scaling, so that results that overflow
+// give +inf and subnormal results are rounded once; the subnormal split and the special
+// values of log. The general path runs only when some lane needs it and is merged by
+// select; it gives the same bits as the fast path wherever both apply, so no lane depends on
+// its neighbours or on the branch. Accuracy, printed by the accuracy test: within 2 ulp
+// everywhere for float and double; most within 1. Exhaustive float check against double
+// libm: exp 1.05 ulp (1.50 for subnormal results), log 0.84 ulp.
 //
 // Special values (C99 Annex F): exp(-inf) = 0, exp(+inf) = +inf, expm1(-inf) = -1,
 // expm1(+-0) = +-0; log(0) = -inf, log(x < 0) = NaN, log(+inf) = +inf, log1p(-1) = -inf,
@@ -50,6 +57,27 @@ PLUME_INLINE log_split<T> split_log(T x) noexcept {
   auto const adj = m > splat<T>(C::sqrt2);
   m = plume::select(adj, m * half<T>(), m);
   T const e = ef - splat<T>(S(C::exp_bias)) - bias_adj + plume::select(adj, one<T>(), zero<T>());
+  return {e, m - one<T>()};
+}
+
+/// split_log for positive normal finite x, in integer steps (other inputs give garbage the
+/// callers replace): m = x / 2^e in (sqrt2/2, sqrt2] from the bits of x, the same e and f as
+/// split_log gives there.
+template <Float T>
+PLUME_INLINE log_split<T> split_log_normal(T x) noexcept {
+  using S = scalar_t<T>;
+  using C = math_constants<S>;
+  using U = scalar_t<bits_t<T>>;
+  using B = bits_t<T>;
+  // bits of the smallest m kept: m in [off, 2 off) as bits, i.e. (sqrt2/2, sqrt2].
+  constexpr U off = std::bit_cast<U>(C::sqrt2) - (U(1) << C::mant_bits) + 1;
+  constexpr U one_bits = std::bit_cast<U>(S(1));
+  constexpr U mant_mask = (U(1) << C::mant_bits) - 1;
+  // t's exponent field is e + bias, and its mantissa field is the offset of m above off.
+  B const t = plume::to_bits(x) + splat<B>(static_cast<U>(one_bits - off));
+  T const e = from_bits<T>((t >> C::mant_bits) | splat<B>(static_cast<U>(C::two_p_bits))) -
+              splat<T>(S(C::two_p + S(C::exp_bias)));
+  T const m = from_bits<T>((t & splat<B>(mant_mask)) + splat<B>(off));
   return {e, m - one<T>()};
 }
 
@@ -116,11 +144,22 @@ PLUME_INLINE dw<T> log2_dw(T x) noexcept {
 template <Float T>
 PLUME_INLINE T exp2_dw(T hi, T lo) noexcept {
   using C = math_constants<scalar_t<T>>;
-  T const h = clamp_range(hi, splat<T>(C::exp2_clamp_lo), splat<T>(C::exp2_clamp_hi));
-  T const n = round_small(h);
-  T const r = (h - n) + lo; // h - n is exact
-  T const p = one<T>() + r * detail::horner(r, C::exp2_poly);
-  return scale_pow2(p, n);
+  // Normal results (|hi| <= exp2_fast_limit) scale through the exponent field; the rest
+  // clamp and scale in two steps (same bits where both apply; see exp).
+  T const rm = splat<T>(C::round_magic);
+  T const t = hi + rm;
+  T const n = t - rm;
+  T const r = (hi - n) + lo; // hi - n is exact
+  T res = scale_pow2_normal(one<T>() + r * detail::horner(r, C::exp2_poly), t);
+  auto const fast = plume::abs(hi) <= splat<T>(C::exp2_fast_limit);
+  if (!plume::all(fast)) [[unlikely]] {
+    T const h = clamp_range(hi, splat<T>(C::exp2_clamp_lo), splat<T>(C::exp2_clamp_hi));
+    T const nc = round_small(h);
+    T const rc = (h - nc) + lo;
+    T const pc = one<T>() + rc * detail::horner(rc, C::exp2_poly);
+    res = plume::select(fast, res, scale_pow2(pc, nc));
+  }
+  return res;
 }
 
 } // namespace detail
@@ -128,11 +167,25 @@ PLUME_INLINE T exp2_dw(T hi, T lo) noexcept {
 template <Float T>
 PLUME_INLINE T exp(T x) noexcept {
   using C = detail::math_constants<scalar_t<T>>;
-  T const xc = detail::clamp_range(x, splat<T>(C::exp_clamp_lo), splat<T>(C::exp_clamp_hi));
-  T const n = detail::round_small(xc * splat<T>(C::log2e));
-  T const r = (xc - n * splat<T>(C::ln2_hi)) - n * splat<T>(C::ln2_lo);
+  // |x| <= exp_fast_limit (the usual case): the result is normal, and 2^n is added to the
+  // exponent field directly. Other lanes (overflow, subnormal results, inf, NaN) take the
+  // clamped path with its two-step scaling; it gives the same bits on the lanes both cover,
+  // so the branch only skips work and no lane depends on another.
+  T const rm = splat<T>(C::round_magic);
+  T const t = x * splat<T>(C::log2e) + rm;
+  T const n = t - rm; // round(x log2 e)
+  T const r = (x - n * splat<T>(C::ln2_hi)) - n * splat<T>(C::ln2_lo);
   T const p = one<T>() + (r + r * r * detail::horner(r, C::exp_poly));
-  return detail::scale_pow2(p, n);
+  T res = detail::scale_pow2_normal(p, t);
+  auto const fast = plume::abs(x) <= splat<T>(C::exp_fast_limit); // false for NaN
+  if (!plume::all(fast)) [[unlikely]] {
+    T const xc = detail::clamp_range(x, splat<T>(C::exp_clamp_lo), splat<T>(C::exp_clamp_hi));
+    T const nc = detail::round_small(xc * splat<T>(C::log2e));
+    T const rc = (xc - nc * splat<T>(C::ln2_hi)) - nc * splat<T>(C::ln2_lo);
+    T const pc = one<T>() + (rc + rc * rc * detail::horner(rc, C::exp_poly));
+    res = plume::select(fast, res, detail::scale_pow2(pc, nc));
+  }
+  return res;
 }
 
 template <Float T>
@@ -165,11 +218,21 @@ PLUME_INLINE T expm1(T x) noexcept {
 template <Float T>
 PLUME_INLINE T log(T x) noexcept {
   using C = detail::math_constants<scalar_t<T>>;
-  auto const [e, f] = detail::split_log(x);
+  // Positive normal x (the usual case) splits in integer steps; other lanes (0, subnormal,
+  // negative, inf, NaN) take the full split and the special values. Both give the same bits
+  // where both apply, so the branch only skips work and no lane depends on another.
+  auto const [e, f] = detail::split_log_normal(x);
   auto const [hfsq, s, R] = detail::log_kernel(f);
-  T const core =
-      e * splat<T>(C::ln2_hi) - ((hfsq - (s * (hfsq + R) + e * splat<T>(C::ln2_lo))) - f);
-  return detail::log_specials(x, core);
+  T res = e * splat<T>(C::ln2_hi) - ((hfsq - (s * (hfsq + R) + e * splat<T>(C::ln2_lo))) - f);
+  auto const normal = (x >= min_positive<T>()) & (x <= max_value<T>());
+  if (!plume::all(normal)) [[unlikely]] {
+    auto const [ef, ff] = detail::split_log(x);
+    auto const [hf, sf, Rf] = detail::log_kernel(ff);
+    T const core =
+        ef * splat<T>(C::ln2_hi) - ((hf - (sf * (hf + Rf) + ef * splat<T>(C::ln2_lo))) - ff);
+    res = plume::select(normal, res, detail::log_specials(x, core));
+  }
+  return res;
 }
 
 template <Float T>

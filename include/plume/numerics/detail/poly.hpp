@@ -42,6 +42,17 @@ PLUME_INLINE T scale_pow2(T x, T n) noexcept {
   return (x * pow2_int(n1)) * pow2_int(n - n1);
 }
 
+/// p * 2^n where t = n + round_magic (the sum whose low mantissa bits hold the integer n):
+/// adds n to p's exponent field. Exact, and equal to scale_pow2(p, n), when p * 2^n is a
+/// normal number (callers check the range); garbage otherwise.
+template <Float T>
+PLUME_INLINE T scale_pow2_normal(T p, T t) noexcept {
+  using C = math_constants<scalar_t<T>>;
+  using U = scalar_t<bits_t<T>>;
+  bits_t<T> const n = plume::to_bits(t) - splat<bits_t<T>>(static_cast<U>(C::magic_bits));
+  return from_bits<T>(plume::to_bits(p) + (n << C::mant_bits));
+}
+
 /// Round to the nearest integer (ties to even) for |v| < 2^(p-2), as a float value.
 template <Float T>
 PLUME_INLINE T round_small(T v) noexcept {
