@@ -141,6 +141,32 @@ PLUME_INLINE dw<T> log2_dw(T x) noexcept {
 }
 
 /// 2^(hi + lo) for |lo| <= ulp(hi); overflow gives inf, underflow 0, NaN stays NaN.
+/// 2^(h - n + lo) for the integer n nearest h: 1 + r P(r), r = (h - n) + lo (h - n exact).
+template <Float T>
+PLUME_INLINE T exp2_reduced(T h, T lo, T n) noexcept {
+  using C = math_constants<scalar_t<T>>;
+  T const r = (h - n) + lo;
+  return one<T>() + r * detail::horner(r, C::exp2_poly);
+}
+
+/// e^(x - n ln2) for the integer n nearest x log2 e: 1 + (r + r^2 P(r)), r reduced by the
+/// two-part ln 2.
+template <Float T>
+PLUME_INLINE T exp_reduced(T x, T n) noexcept {
+  using C = math_constants<scalar_t<T>>;
+  T const r = (x - n * splat<T>(C::ln2_hi)) - n * splat<T>(C::ln2_lo);
+  return one<T>() + (r + r * r * detail::horner(r, C::exp_poly));
+}
+
+/// log(2^e (1 + f)) for |f| < sqrt2 - 1 (fdlibm's summation order).
+template <Float T>
+PLUME_INLINE T log_core(log_split<T> const& ef) noexcept {
+  using C = math_constants<scalar_t<T>>;
+  auto const [hfsq, s, R] = log_kernel(ef.f);
+  return ef.e * splat<T>(C::ln2_hi) -
+         ((hfsq - (s * (hfsq + R) + ef.e * splat<T>(C::ln2_lo))) - ef.f);
+}
+
 template <Float T>
 PLUME_INLINE T exp2_dw(T hi, T lo) noexcept {
   using C = math_constants<scalar_t<T>>;
@@ -149,15 +175,12 @@ PLUME_INLINE T exp2_dw(T hi, T lo) noexcept {
   T const rm = splat<T>(C::round_magic);
   T const t = hi + rm;
   T const n = t - rm;
-  T const r = (hi - n) + lo; // hi - n is exact
-  T res = scale_pow2_normal(one<T>() + r * detail::horner(r, C::exp2_poly), t);
+  T res = scale_pow2_normal(exp2_reduced(hi, lo, n), t);
   auto const fast = plume::abs(hi) <= splat<T>(C::exp2_fast_limit);
   if (!plume::all(fast)) [[unlikely]] {
     T const h = clamp_range(hi, splat<T>(C::exp2_clamp_lo), splat<T>(C::exp2_clamp_hi));
     T const nc = round_small(h);
-    T const rc = (h - nc) + lo;
-    T const pc = one<T>() + rc * detail::horner(rc, C::exp2_poly);
-    res = plume::select(fast, res, scale_pow2(pc, nc));
+    res = plume::select(fast, res, scale_pow2(exp2_reduced(h, lo, nc), nc));
   }
   return res;
 }
@@ -174,16 +197,12 @@ PLUME_INLINE T exp(T x) noexcept {
   T const rm = splat<T>(C::round_magic);
   T const t = x * splat<T>(C::log2e) + rm;
   T const n = t - rm; // round(x log2 e)
-  T const r = (x - n * splat<T>(C::ln2_hi)) - n * splat<T>(C::ln2_lo);
-  T const p = one<T>() + (r + r * r * detail::horner(r, C::exp_poly));
-  T res = detail::scale_pow2_normal(p, t);
+  T res = detail::scale_pow2_normal(detail::exp_reduced(x, n), t);
   auto const fast = plume::abs(x) <= splat<T>(C::exp_fast_limit); // false for NaN
   if (!plume::all(fast)) [[unlikely]] {
     T const xc = detail::clamp_range(x, splat<T>(C::exp_clamp_lo), splat<T>(C::exp_clamp_hi));
     T const nc = detail::round_small(xc * splat<T>(C::log2e));
-    T const rc = (xc - nc * splat<T>(C::ln2_hi)) - nc * splat<T>(C::ln2_lo);
-    T const pc = one<T>() + (rc + rc * rc * detail::horner(rc, C::exp_poly));
-    res = plume::select(fast, res, detail::scale_pow2(pc, nc));
+    res = plume::select(fast, res, detail::scale_pow2(detail::exp_reduced(xc, nc), nc));
   }
   return res;
 }
@@ -217,21 +236,14 @@ PLUME_INLINE T expm1(T x) noexcept {
 
 template <Float T>
 PLUME_INLINE T log(T x) noexcept {
-  using C = detail::math_constants<scalar_t<T>>;
   // Positive normal x (the usual case) splits in integer steps; other lanes (0, subnormal,
   // negative, inf, NaN) take the full split and the special values. Both give the same bits
   // where both apply, so the branch only skips work and no lane depends on another.
-  auto const [e, f] = detail::split_log_normal(x);
-  auto const [hfsq, s, R] = detail::log_kernel(f);
-  T res = e * splat<T>(C::ln2_hi) - ((hfsq - (s * (hfsq + R) + e * splat<T>(C::ln2_lo))) - f);
+  T res = detail::log_core(detail::split_log_normal(x));
   auto const normal = (x >= min_positive<T>()) & (x <= max_value<T>());
-  if (!plume::all(normal)) [[unlikely]] {
-    auto const [ef, ff] = detail::split_log(x);
-    auto const [hf, sf, Rf] = detail::log_kernel(ff);
-    T const core =
-        ef * splat<T>(C::ln2_hi) - ((hf - (sf * (hf + Rf) + ef * splat<T>(C::ln2_lo))) - ff);
-    res = plume::select(normal, res, detail::log_specials(x, core));
-  }
+  if (!plume::all(normal)) [[unlikely]]
+    res =
+        plume::select(normal, res, detail::log_specials(x, detail::log_core(detail::split_log(x))));
   return res;
 }
 
