@@ -264,6 +264,9 @@ PLUME_INLINE T asin(T x) noexcept {
   T const R = z * detail::horner(z, C::asin_poly); // plume::asin(s) = s + s R(s^2)
   // |x| <= 1/2
   T const small_res = x + x * R;
+  if constexpr (!is_batch_v<T>) {
+    if (!big) return small_res; // the value select() below would pick, without the sqrt
+  }
   // |x| > 1/2: asin|x| = pi/2 - 2 asin(s), s = sqrt(z), with s split as f + c exactly.
   T const s = plume::sqrt(z);
   T const f = detail::bit_and(s, detail::bit_pattern<T>(C::hi_half_mask));
@@ -288,6 +291,9 @@ PLUME_INLINE T acos(T x) noexcept {
   T const pio2_hi = splat<T>(C::pio2_hi), pio2_lo = splat<T>(C::pio2_lo);
   // |x| <= 1/2: pi/2 - asin(x)
   T const small_res = pio2_hi - (x - (pio2_lo - x * R));
+  if constexpr (!is_batch_v<T>) {
+    if (!big) return small_res; // the value select() below would pick, without the sqrt
+  }
   T const s = plume::sqrt(z);
   // x < -1/2: pi - 2 asin(s)
   T const neg_res = two<T>() * (pio2_hi - (s + (R * s - pio2_lo)));
