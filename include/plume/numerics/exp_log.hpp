@@ -140,7 +140,6 @@ PLUME_INLINE dw<T> log2_dw(T x) noexcept {
   return dw_add(dw<T>{e, zero<T>()}, l2);
 }
 
-/// 2^(hi + lo) for |lo| <= ulp(hi); overflow gives inf, underflow 0, NaN stays NaN.
 /// 2^(h - n + lo) for the integer n nearest h: 1 + r P(r), r = (h - n) + lo (h - n exact).
 template <Float T>
 PLUME_INLINE T exp2_reduced(T h, T lo, T n) noexcept {
@@ -167,6 +166,7 @@ PLUME_INLINE T log_core(log_split<T> const& ef) noexcept {
          ((hfsq - (s * (hfsq + R) + ef.e * splat<T>(C::ln2_lo))) - ef.f);
 }
 
+/// 2^(hi + lo) for |lo| <= ulp(hi); overflow gives inf, underflow 0, NaN stays NaN.
 template <Float T>
 PLUME_INLINE T exp2_dw(T hi, T lo) noexcept {
   using C = math_constants<scalar_t<T>>;

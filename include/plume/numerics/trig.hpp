@@ -43,7 +43,7 @@ PLUME_INLINE quadrant_reduction<T> reduce_half_pi(T x) noexcept {
   using C = math_constants<S>;
   T const rm = splat<T>(C::round_magic);
   // t = x*2/pi + 1.5*2^m rounds to an integer whose low bits hold q mod 4.
-  T const t = x * splat<T>(S(0.63661977236758134308)) + rm;
+  T const t = x * frac_2_pi<T>() + rm;
   T const q = t - rm;
   T const qm =
       bit_or(bit_and(t, bit_pattern<T>(3)), bit_pattern<T>(C::two_p_bits)) - splat<T>(C::two_p);
@@ -106,7 +106,7 @@ PLUME_INLINE abs_reduction<T> reduce_abs_half_pi(T a) noexcept {
   using C = math_constants<S>;
   using B = bits_t<T>;
   T const rm = splat<T>(C::round_magic);
-  T const t = a * splat<T>(S(0.63661977236758134308)) + rm;
+  T const t = a * frac_2_pi<T>() + rm;
   T const q = t - rm;
   T const r1 = a - q * splat<T>(C::pio2_parts[0]);  // exact
   T const r2 = r1 - q * splat<T>(C::pio2_parts[1]); // exact
@@ -160,11 +160,6 @@ PLUME_INLINE T cos_kernel(T hi, T lo, T z) noexcept {
   T const hz = half<T>() * z;
   T const w = one<T>() - hz;
   return w + (((one<T>() - w) - hz) + (z * z * detail::horner(z, C::cos_poly) - hi * lo));
-}
-
-template <Float T>
-PLUME_INLINE T negate_if(mask_t<T> m, T x) noexcept {
-  return plume::select(m, -x, x);
 }
 
 /// atan(a + a_lo) for a >= 0 (or NaN), |a_lo| <= ulp(a); branch-free 3-range reduction with the
