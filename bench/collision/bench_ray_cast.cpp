@@ -4,8 +4,10 @@
 // against shape i (N = 4096; origins in [-4, 4]^3 aimed near the shape, so about half hit);
 // "one ray x N spheres": the same ray (splat) against every sphere. Shapes are given by a
 // centre (sphere, capsule, cylinder: the ray is moved into the shape frame by a subtraction),
-// a world box (AABB), a full pose (oriented box: a quaternion rotation per ray), or world
-// vertices (triangle: the corners of the box's axes around the centre).
+// a world box (AABB, stored as its min and max corners), a full pose (oriented box: a quaternion
+// rotation per ray), or world vertices (triangle: the corners of the box's axes around the centre).
+// The per-ray lambdas are forced inline (PLUME_BENCH_INLINE): g++ otherwise may keep one out of
+// line, and the timed loop then measures a call and a result passed through memory.
 #include <plume/collision.hpp>
 
 #include "../bench_support.hpp"
@@ -53,6 +55,7 @@ scene const& data() {
 template <class T>
 struct packed {
   std::vector<plume::GVec3<T>> o, d, c, e;
+  std::vector<plume::GAabb3<T>> box; ///< c - e .. c + e, stored as an AABB is (min, max)
   std::vector<T> r, h;
   std::vector<plume::GQuat<T>> q;
   packed() {
@@ -72,6 +75,7 @@ struct packed {
         q1 = plume::with_lane(q1, l, s.q[i + l]);
       }
       o.push_back(o1), d.push_back(d1), c.push_back(c1), e.push_back(e1);
+      box.push_back(plume::GAabb3<T>{c1 - e1, c1 + e1});
       r.push_back(r1), h.push_back(h1), q.push_back(q1);
     }
   }
@@ -94,27 +98,26 @@ void register_width() {
       });
     });
   };
-  reg("ray_sphere", [inf](packed<T> const& p, std::size_t i) {
+  reg("ray_sphere", [inf](packed<T> const& p, std::size_t i) PLUME_BENCH_INLINE {
     return plume::ray_cast_local(plume::GSphere<T>{p.r[i]},
                                  plume::GRay3<T>{p.o[i] - p.c[i], p.d[i]}, inf);
   });
-  reg("ray_aabb", [inf](packed<T> const& p, std::size_t i) {
-    return plume::ray_cast(plume::GAabb3<T>{p.c[i] - p.e[i], p.c[i] + p.e[i]},
-                           plume::GRay3<T>{p.o[i], p.d[i]}, inf);
+  reg("ray_aabb", [inf](packed<T> const& p, std::size_t i) PLUME_BENCH_INLINE {
+    return plume::ray_cast(p.box[i], plume::GRay3<T>{p.o[i], p.d[i]}, inf);
   });
-  reg("ray_capsule", [inf](packed<T> const& p, std::size_t i) {
+  reg("ray_capsule", [inf](packed<T> const& p, std::size_t i) PLUME_BENCH_INLINE {
     return plume::ray_cast_local(plume::GCapsule<T>{p.h[i], p.r[i]},
                                  plume::GRay3<T>{p.o[i] - p.c[i], p.d[i]}, inf);
   });
-  reg("ray_cylinder", [inf](packed<T> const& p, std::size_t i) {
+  reg("ray_cylinder", [inf](packed<T> const& p, std::size_t i) PLUME_BENCH_INLINE {
     return plume::ray_cast_local(plume::GCylinder<T>{p.h[i], p.r[i]},
                                  plume::GRay3<T>{p.o[i] - p.c[i], p.d[i]}, inf);
   });
-  reg("ray_oriented_box", [inf](packed<T> const& p, std::size_t i) {
+  reg("ray_oriented_box", [inf](packed<T> const& p, std::size_t i) PLUME_BENCH_INLINE {
     return plume::ray_cast(plume::GCuboid<T>{p.e[i]}, plume::GIso3<T>{p.q[i], p.c[i]},
                            plume::GRay3<T>{p.o[i], p.d[i]}, inf);
   });
-  reg("ray_triangle", [inf](packed<T> const& p, std::size_t i) {
+  reg("ray_triangle", [inf](packed<T> const& p, std::size_t i) PLUME_BENCH_INLINE {
     T const z = plume::zero<T>();
     plume::GTriangle<T> const tri{p.c[i] + V{p.e[i].x, z, z}, p.c[i] + V{z, p.e[i].y, z},
                                   p.c[i] + V{z, z, p.e[i].z}};

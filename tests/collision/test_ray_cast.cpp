@@ -219,6 +219,26 @@ TEST_CASE("ray casts: inside, surface, parallel, zero and non-finite input", "[c
                 .toi == 1);
     }
   }
+  SECTION("box: a direction component so small that 1/d overflows acts as parallel") {
+    // 1e-40 is subnormal: 1/d = inf, and (plane - origin) * inf is 0 * inf = NaN on the
+    // plane. The origin is on the closed slab there, so the slab must not reject the ray.
+    float const tiny = 1e-40f;
+    for (float t : {tiny, -tiny}) {
+      auto const g = ray_cast_local(box, Ray3{{-5, 2, 0}, {1, t, 0}}, inf);
+      CHECK(g.hit);
+      CHECK(g.toi == 4);
+      CHECK(g.normal.x == -1);
+      auto const h = ray_cast_local(box, Ray3{{-1, -2, 0}, {0, 1, t}}, inf, false);
+      CHECK(h.hit); // hollow from inside, leaving through +y
+      CHECK(h.toi == 4);
+      CHECK(h.normal.y == 1);
+    }
+    // An entry so far that (plane - origin) / d overflows: t = +infinity, a miss (not a hit
+    // at infinity), even with max_toi = +infinity. (10 * 5e37 > FLT_MAX.)
+    auto const far = ray_cast_local(box, Ray3{{0, -12, 0}, {0, 2e-38f, 0}}, inf);
+    CHECK_FALSE(far.hit);
+    CHECK(far.toi == inf);
+  }
   SECTION("zero direction: only a solid shape around the origin") {
     CHECK(ray_cast_local(s, Ray3{{0, 0, 0}, {0, 0, 0}}, inf).hit);
     CHECK_FALSE(ray_cast_local(s, Ray3{{0, 0, 0}, {0, 0, 0}}, inf, false).hit);

@@ -20,9 +20,10 @@
 //  - Robust forms (notes/collision.md): the sphere and cylinder discriminants are computed
 //    as a (r^2 - |f - (b/a) d|^2) = a r^2 - |f x d|^2, without the cancellation of b^2 - a c
 //    for small or far shapes, and the roots as c/q and q/a with q = -(b + sign(b) sqrt(disc))
-//    (one division for both); slab tests
-//    treat a zero direction component (+0 or -0) as parallel and decide by whether the origin
-//    lies in the slab, so 0 * inf never makes a NaN.
+//    (one division for both); slab tests treat a zero direction component (+0 or -0), or
+//    one so small that 1/d overflows, as parallel and decide by whether the origin lies in
+//    the (closed) slab: the 0 * inf = NaN of an origin on a slab plane never rejects the ray,
+//    and an entry at t = +infinity is a miss.
 //  - A grazing ray that touches the surface in one point hits (tangency counts).
 //  - feature: the part of the shape hit, where the shape has parts, -1 on a miss or a solid
 //    hit from inside: cuboids and AABBs 0..5 = the -x, +x, -y, +y, -z, +z face; capsules
@@ -137,22 +138,30 @@ struct pre_hit {
   mask_t<T> hit, leaving, bare;
   T toi;
 };
+/// ok_where_inside: the caller's interval is known to reach t = 0 wherever the origin is
+/// inside (iv.ok, tin <= 0 <= tout: the slab test's), so a solid hit needs no inside term.
 template <Real T>
 PLUME_INLINE pre_hit<T> finish(mask_t<T> valid, mask_t<T> inside, ray_interval<T> const& iv,
-                               T max_toi, bool solid) noexcept {
+                               T max_toi, bool solid, bool ok_where_inside = false) noexcept {
   T const z = zero<T>();
+  auto const reach = iv.ok & (iv.tout >= z) & (iv.tin <= iv.tout);
   auto const outside = !inside;
-  auto const enter = outside & iv.ok & (iv.tout >= z) & (iv.tin <= iv.tout);
   T const t_enter = max_of(iv.tin, z);
   pre_hit<T> h;
-  if (solid) {
+  if (solid && ok_where_inside) {
     h.toi = plume::select(inside, z, t_enter);
-    h.hit = valid & (inside | enter);
+    h.hit = valid & reach; // = valid & (inside | (outside & reach)): reach holds inside
+    h.leaving = z < z;
+    h.bare = inside;
+  } else if (solid) {
+    h.toi = plume::select(inside, z, t_enter);
+    h.hit = valid & (inside | (outside & reach));
     h.leaving = z < z;
     h.bare = inside;
   } else {
     h.toi = plume::select(inside, max_of(iv.tout, z), t_enter);
-    h.hit = valid & (enter | (inside & iv.ok & (iv.tout >= z) & (iv.tout < infinity<T>())));
+    h.hit =
+        valid & ((outside & reach) | (inside & iv.ok & (iv.tout >= z) & (iv.tout < infinity<T>())));
     h.leaving = inside;
     h.bare = z < z;
   }
@@ -168,12 +177,14 @@ PLUME_INLINE GRayHit<T> with_normal(pre_hit<T> const& h, GVec3<T> const& n,
           plume::select(surface, feature, -one<T>())};
 }
 
+/// Finite origin and direction: x - x is 0 for finite x and NaN otherwise. (A NaN max_toi
+/// needs no test: every hit requires toi <= max_toi, which is false for NaN.)
 template <Real T>
-PLUME_INLINE mask_t<T> ray_valid(GRay3<T> const& ray, T max_toi) noexcept {
+PLUME_INLINE mask_t<T> ray_valid(GRay3<T> const& ray) noexcept {
   T const s = ((ray.origin.x - ray.origin.x) + (ray.origin.y - ray.origin.y)) +
               ((ray.origin.z - ray.origin.z) + (ray.dir.x - ray.dir.x)) +
               ((ray.dir.y - ray.dir.y) + (ray.dir.z - ray.dir.z));
-  return (s == zero<T>()) & !plume::is_nan(max_toi);
+  return s == zero<T>();
 }
 
 /// Sphere of radius r at f's origin: f is the ray origin relative to the centre.
@@ -192,7 +203,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray,
                                        bool solid = true) noexcept {
   auto const iv = detail::sphere_part(ray.origin, ray.dir, s.radius);
   auto const inside = ray.origin.length_squared() <= s.radius * s.radius;
-  auto const h = detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+  auto const h = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, solid);
   // The normal p / r with one division; a zero radius has no normal.
   T const inv_r = one<T>() / s.radius;
   GVec3<T> const n = GVec3<T>::select(s.radius > zero<T>(), ray.at(h.toi) * inv_r, GVec3<T>{});
@@ -202,46 +213,70 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray,
 namespace detail {
 /// The box lo <= p <= hi (in the frame the ray is given in): slab test, entry/exit face
 /// normals. Shared by cuboids (lo = -e, hi = e) and world AABBs.
+///
+/// Per axis the near and far crossings are picked by the sign of 1/d (= the sign of d, also
+/// for d = +-0: 1/+-0 = +-inf), so an axis the ray is parallel to (d = +-0, or so small that
+/// 1/d overflows) gives +-inf crossings of the right sign: -inf..+inf when the origin is
+/// strictly inside the slab, an empty or infinitely distant interval when outside. The one
+/// NaN, 0 * inf, arises only for an origin on the slab's boundary, which is inside the closed
+/// slab: the accumulation ignores NaN crossings (max_select/min_select keep their second
+/// argument), which is that answer. An entry at +infinity (outside and parallel, or
+/// overflow) is a miss. Whether the origin is inside comes from the signs of lo - o and
+/// hi - o, which are exact (a difference is zero only for equal operands).
 template <Real T>
 PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T> const& ray,
                                  T max_toi, bool solid) noexcept {
   using V = GVec3<T>;
   GVec3<T> const& o = ray.origin;
   GVec3<T> const& d = ray.dir;
-  auto const sx = slab_interval(o.x, d.x, lo.x, hi.x);
-  auto const sy = slab_interval(o.y, d.y, lo.y, hi.y);
-  auto const sz = slab_interval(o.z, d.z, lo.z, hi.z);
-  T const z = zero<T>();
-  // Entry: the slab entered last (first axis on ties); exit: the slab left first.
-  auto const y_in = sy.tin > sx.tin;
-  T tin = plume::select(y_in, sy.tin, sx.tin);
-  auto const z_in = sz.tin > tin;
-  tin = plume::select(z_in, sz.tin, tin);
-  auto const y_out = sy.tout < sx.tout;
-  T tout = plume::select(y_out, sy.tout, sx.tout);
-  auto const z_out = sz.tout < tout;
-  tout = plume::select(z_out, sz.tout, tout);
-  auto const axis = [&](auto y_sel, auto z_sel, T sign_x, T sign_y, T sign_z) {
-    V n{sign_x, z, z};
-    n = V::select(y_sel, V{z, sign_y, z}, n);
-    return V::select(z_sel, V{z, z, sign_z}, n);
-  };
-  auto const sgn = [&](T c) { return plume::select(c < z, -one<T>(), one<T>()); };
+  T const z = zero<T>(), inf = infinity<T>();
+  V const to_lo = lo - o, to_hi = hi - o;
+  V const inv{one<T>() / d.x, one<T>() / d.y, one<T>() / d.z};
+  // The near and far planes by d's sign (1/d's: the same for every d that is not NaN), chosen
+  // before the division so that a scalar build's select is off its critical path.
+  V const near{select_sign(d.x, to_hi.x, to_lo.x) * inv.x,
+               select_sign(d.y, to_hi.y, to_lo.y) * inv.y,
+               select_sign(d.z, to_hi.z, to_lo.z) * inv.z};
+  V const far{select_sign(d.x, to_lo.x, to_hi.x) * inv.x,
+              select_sign(d.y, to_lo.y, to_hi.y) * inv.y,
+              select_sign(d.z, to_lo.z, to_hi.z) * inv.z};
+  // Entry: the slab entered last (first axis on ties); exit: the slab left first. NaN
+  // crossings lose every comparison, so they are never picked.
+  T const tin_x = plume::max_select(near.x, -inf), tout_x = plume::min_select(far.x, inf);
+  auto const y_in = near.y > tin_x, y_out = far.y < tout_x;
+  T const tin_xy = plume::max_select(near.y, tin_x), tout_xy = plume::min_select(far.y, tout_x);
+  auto const z_in = near.z > tin_xy, z_out = far.z < tout_xy;
   ray_interval<T> iv;
-  iv.ok = tin <= tout;
-  iv.tin = tin;
-  iv.tout = tout;
-  auto const inside = (sx.in & sy.in) & sz.in;
-  auto const h = finish(ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+  iv.tin = plume::max_select(near.z, tin_xy);
+  iv.tout = plume::min_select(far.z, tout_xy);
+  iv.ok = (iv.tin <= iv.tout) & (iv.tin < inf);
+  // Inside the closed box: lo - o <= 0 <= hi - o on every axis (a NaN lane is invalid).
+  T const below = plume::max_select(plume::max_select(to_lo.x, to_lo.y), to_lo.z);
+  T const above = plume::min_select(plume::min_select(to_hi.x, to_hi.y), to_hi.z);
+  auto const inside = (below <= z) & (above >= z);
+  auto const h = finish(ray_valid(ray), inside, iv, max_toi, solid, true);
   // Entering: the face of the entry slab, facing -dir; leaving: the exit slab's, facing dir.
+  // ys, zs: that slab is y's, z's (exclusive; neither: x's). The normal there is +-1 along
+  // the axis with the sign bit of 1/d (= d's; on a surface hit d is not +-0 on that axis),
+  // flipped when entering.
   auto const ys = plume::select(h.leaving, y_out & !z_out, y_in & !z_in);
   auto const zs = plume::select(h.leaving, z_out, z_in);
-  T const flip = plume::select(h.leaving, one<T>(), -one<T>());
-  V const n = axis(ys, zs, flip * sgn(d.x), flip * sgn(d.y), flip * sgn(d.z));
-  // Face 2 axis + (outward normal positive).
-  T const face = plume::select(zs, splat<T>(4), plume::select(ys, splat<T>(2), z)) +
-                 plume::select(((n.x + n.y) + n.z) > z, one<T>(), z);
-  return with_normal(h, n, face);
+  T const inv_axis = plume::select(zs, inv.z, plume::select(ys, inv.y, inv.x));
+  T const flip = plume::keep_if(!h.leaving, -z); // the sign bit where entering
+  T const u = bit_xor(bit_or(one<T>(), bit_and(inv_axis, -z)), flip);
+  auto const surface = h.hit & !h.bare;
+  T const nu = plume::keep_if(surface, u);
+  GRayHit<T> out;
+  out.hit = h.hit;
+  out.toi = h.toi;
+  out.normal.y = plume::keep_if(ys, nu);
+  out.normal.z = plume::keep_if(zs, nu);
+  out.normal.x = bit_xor(nu, bit_or(out.normal.y, out.normal.z)); // nu where neither
+  // Face 2 axis + (outward normal positive); -1 without a surface.
+  T const face = (plume::keep_if(ys, splat<T>(2)) + plume::keep_if(zs, splat<T>(4))) +
+                 plume::keep_if(u > z, one<T>());
+  out.feature = plume::select(surface, face, -one<T>());
+  return out;
 }
 } // namespace detail
 
@@ -292,7 +327,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& r
   }
   T const cy = plume::clamp_select(o.y, -h, h); // (a NaN lane is invalid already)
   auto const inside = (V{o.x, o.y - cy, o.z}.length_squared() <= r * r);
-  auto const hit = detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+  auto const hit = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, solid);
   // The outward normal (p - nearest point of the segment) / r; a zero radius has none.
   V const p = ray.at(hit.toi);
   T const inv_r = one<T>() / r;
@@ -326,7 +361,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCylinder<T> const& cyl, GRay3<T> const& 
   mask_t<T> const meets = side.ok & (tin <= tout);
   detail::ray_interval<T> iv{meets, tin, tout};
   auto const inside = in_disc & (plume::abs(o.y) <= h);
-  auto const hit = detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid);
+  auto const hit = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, solid);
   auto const on_cap = plume::select(hit.leaving, cap_out, cap_in);
   V const p = ray.at(hit.toi);
   V const n = V::select(on_cap, V{z, plume::select(hit.leaving, -up, up), z},
@@ -348,8 +383,8 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GHalfSpace<T> const& hs, GRay3<T> const& 
   iv.ok = plume::select(inside, dn > z, dn < z);
   iv.tin = plume::select(inside, -inf, t);
   iv.tout = plume::select(inside, t, inf);
-  return detail::with_normal(
-      detail::finish(detail::ray_valid(ray, max_toi), inside, iv, max_toi, solid), hs.normal);
+  return detail::with_normal(detail::finish(detail::ray_valid(ray), inside, iv, max_toi, solid),
+                             hs.normal);
 }
 
 namespace detail {
@@ -433,7 +468,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
       edge_ok(su, Bx, By, Cx, Cy) & edge_ok(sv, Cx, Cy, Ax, Ay) & edge_ok(sw, Ax, Ay, Bx, By);
   T const tn = (U * (sz * pz(A)) + Vv * (sz * pz(B))) + W_ * (sz * pz(C));
   T const t = tn / det;
-  M const hit = detail::ray_valid(ray, max_toi) & inside & (det != z) & (t >= z) & (t <= max_toi);
+  M const hit = detail::ray_valid(ray) & inside & (det != z) & (t >= z) & (t <= max_toi);
   V const n = detail::unit_or_zero(tri.scaled_normal());
   M const back = n.dot(d) > z; // coming from behind: the back face
   V const facing = V::select(back, -n, n);

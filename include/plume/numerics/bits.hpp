@@ -3,7 +3,9 @@
 //   to_bits(x)        the bits of each lane as bits_t<T> (float -> uint32_t)
 //   from_bits<T>(b)   the reverse
 //   is_nan(x) is_finite(x) is_infinite(x) is_sign_negative(x)    masks (mask_t<T>)
-// is_sign_negative reads the sign bit: true for -0.0 and for NaNs with the sign bit set.
+//   select_sign(s, a, b)   per lane: the sign bit of s set ? a : b
+// is_sign_negative and select_sign read the sign bit: set for -0.0 and for NaNs with the
+// sign bit set.
 #pragma once
 
 #include <plume/numerics/concepts.hpp>
@@ -99,6 +101,25 @@ PLUME_INLINE mask_t<T> is_sign_negative(T x) noexcept {
   } else {
     return (plume::to_bits(x) >> (8 * sizeof(T) - 1)) != 0;
   }
+}
+
+/// Per lane: a where the sign bit of s is set (s < 0, s = -0, a NaN with the sign bit),
+/// b elsewhere. select(is_sign_negative(s), a, b), in one instruction where the blend reads
+/// the sign bit itself (BLENDVPS on 128/256-bit float batches) instead of a compare and a
+/// blend.
+template <Float T>
+PLUME_INLINE T select_sign(T s, T a, T b) noexcept {
+#if PLUME_HAS_BATCHES && defined(__GNUC__) && !defined(__clang__) && defined(__AVX__)
+  if constexpr (is_batch_v<T>) {
+    using E = scalar_t<T>;
+    using A = typename T::arch_type;
+    if constexpr (detail::vex_blendable_v<E, A>) {
+      using R = typename T::register_type;
+      return T(detail::blendv_vex<E, R>(R(s.data), R(a.data), R(b.data)));
+    }
+  }
+#endif
+  return plume::select(is_sign_negative(s), a, b);
 }
 
 } // namespace plume

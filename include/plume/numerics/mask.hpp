@@ -5,6 +5,8 @@
 // scalars `m1 & m2` is an int; every function here takes it as a bool.)
 //
 //   select(m, a, b)   per lane: m ? a : b    (a or b may be a scalar_t<T> for a batch T)
+//   keep_if(m, a)     per lane: m ? a : 0    (select(m, a, 0): one AND where masks are
+//                                             float vectors, SSE/AVX)
 //   any(m), all(m), none(m)                   horizontal tests
 //   bitmask(m)        lane i of m in bit i of a uint64_t
 //   mask_cast<T>(m)   a mask of another element type with the same lanes and lane width
@@ -30,6 +32,11 @@ template <class T>
 requires(is_element_v<T> && !is_batch_v<T>) PLUME_INLINE constexpr T
     select(bool m, T a, T b) noexcept {
   return m ? a : b;
+}
+
+template <class T>
+requires(is_element_v<T> && !is_batch_v<T>) PLUME_INLINE constexpr T keep_if(bool m, T a) noexcept {
+  return m ? a : T(0);
 }
 
 template <class T>
@@ -119,6 +126,19 @@ PLUME_INLINE xsimd::batch_bool<E, A> select(xsimd::batch_bool<E, A> const& m,
                                             xsimd::batch_bool<E, A> const& a,
                                             xsimd::batch_bool<E, A> const& b) noexcept {
   return (m & a) | (b & (!m));
+}
+
+/// select(m, a, 0): the same bits (+0 where m is false), as an AND of the mask's all-ones
+/// lanes where masks are vectors of a's register type (SSE/AVX float and double batches).
+template <class E, class A>
+PLUME_INLINE xsimd::batch<E, A> keep_if(xsimd::batch_bool<E, A> const& m,
+                                        xsimd::batch<E, A> const& a) noexcept {
+  using R = typename xsimd::batch<E, A>::register_type;
+  using RM = typename xsimd::batch_bool<E, A>::register_type;
+  if constexpr (std::is_floating_point_v<E> && sizeof(R) == sizeof(RM))
+    return xsimd::batch<E, A>(std::bit_cast<R>(m.data)) & a;
+  else
+    return xsimd::select(m, a, xsimd::batch<E, A>(E(0)));
 }
 
 /// The mask m (of any element type of T's lanes and lane width) as a mask of T.
