@@ -139,7 +139,8 @@ struct pre_hit {
   T toi;
 };
 /// ok_where_inside: the caller's interval is known to reach t = 0 wherever the origin is
-/// inside (iv.ok, tin <= 0 <= tout: the slab test's), so a solid hit needs no inside term.
+/// inside (iv.ok, tin <= 0 <= tout: the slab test's) and iv.ok to include tin <= tout, so a
+/// solid hit needs no inside term.
 template <Real T>
 PLUME_INLINE pre_hit<T> finish(mask_t<T> valid, mask_t<T> inside, ray_interval<T> const& iv,
                                T max_toi, bool solid, bool ok_where_inside = false) noexcept {
@@ -149,8 +150,9 @@ PLUME_INLINE pre_hit<T> finish(mask_t<T> valid, mask_t<T> inside, ray_interval<T
   T const t_enter = max_of(iv.tin, z);
   pre_hit<T> h;
   if (solid && ok_where_inside) {
-    h.toi = plume::select(inside, z, t_enter);
-    h.hit = valid & reach; // = valid & (inside | (outside & reach)): reach holds inside
+    // tin <= 0 inside: max(tin, +0) is +0 there, without a select.
+    h.toi = plume::max_select(iv.tin, z);
+    h.hit = valid & iv.ok & (iv.tout >= z); // = valid & (inside | (outside & reach))
     h.leaving = z < z;
     h.bare = inside;
   } else if (solid) {
@@ -249,31 +251,34 @@ PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T
   ray_interval<T> iv;
   iv.tin = plume::max_select(near.z, tin_xy);
   iv.tout = plume::min_select(far.z, tout_xy);
-  iv.ok = (iv.tin <= iv.tout) & (iv.tin < inf);
+  // Met: tin <= tout and an entry before t = +infinity (tin <= tout capped at the largest
+  // finite value is both: every finite tin is <= that cap).
+  iv.ok = iv.tin <= plume::min_select(iv.tout, max_value<T>());
   // Inside the closed box: lo - o <= 0 <= hi - o on every axis (a NaN lane is invalid).
   T const below = plume::max_select(plume::max_select(to_lo.x, to_lo.y), to_lo.z);
   T const above = plume::min_select(plume::min_select(to_hi.x, to_hi.y), to_hi.z);
   auto const inside = (below <= z) & (above >= z);
   auto const h = finish(ray_valid(ray), inside, iv, max_toi, solid, true);
   // Entering: the face of the entry slab, facing -dir; leaving: the exit slab's, facing dir.
-  // ys, zs: that slab is y's, z's (exclusive; neither: x's). The normal there is +-1 along
-  // the axis with the sign bit of 1/d (= d's; on a surface hit d is not +-0 on that axis),
+  // That slab is z's where zs, else y's where ys, else x's. The normal there is +-1 along the
+  // axis with the sign bit of 1/d (= d's; on a surface hit d is not +-0 on that axis),
   // flipped when entering.
-  auto const ys = plume::select(h.leaving, y_out & !z_out, y_in & !z_in);
+  auto const ys = plume::select(h.leaving, y_out, y_in);
   auto const zs = plume::select(h.leaving, z_out, z_in);
   T const inv_axis = plume::select(zs, inv.z, plume::select(ys, inv.y, inv.x));
-  T const flip = plume::keep_if(!h.leaving, -z); // the sign bit where entering
-  T const u = bit_xor(bit_or(one<T>(), bit_and(inv_axis, -z)), flip);
+  T const one_out = plume::select(h.leaving, one<T>(), -one<T>()); // +-1 before d's sign
+  T const u = bit_xor(bit_and(inv_axis, -z), one_out);
   auto const surface = h.hit & !h.bare;
   T const nu = plume::keep_if(surface, u);
   GRayHit<T> out;
   out.hit = h.hit;
   out.toi = h.toi;
-  out.normal.y = plume::keep_if(ys, nu);
   out.normal.z = plume::keep_if(zs, nu);
-  out.normal.x = bit_xor(nu, bit_or(out.normal.y, out.normal.z)); // nu where neither
+  T const not_z = bit_xor(nu, out.normal.z); // nu where not z's, else 0
+  out.normal.y = plume::keep_if(ys, not_z);
+  out.normal.x = bit_xor(not_z, out.normal.y);
   // Face 2 axis + (outward normal positive); -1 without a surface.
-  T const face = (plume::keep_if(ys, splat<T>(2)) + plume::keep_if(zs, splat<T>(4))) +
+  T const face = plume::select(zs, splat<T>(4), plume::keep_if(ys, splat<T>(2))) +
                  plume::keep_if(u > z, one<T>());
   out.feature = plume::select(surface, face, -one<T>());
   return out;
