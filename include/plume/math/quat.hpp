@@ -26,6 +26,23 @@ PLUME_MASK_CODE_BEGIN
 
 namespace plume {
 
+#if defined(__SSE2__)
+namespace detail {
+/// The lanes of v in the order Imm (_MM_SHUFFLE). Without AVX as one PSHUFD: SSE2's SHUFPS
+/// overwrites its first operand, so a swizzle of a value still needed costs a copy more. With
+/// AVX the three-operand form has no copy, and g++ folds a broadcast of a loaded value into
+/// VBROADCASTSS from memory, which PSHUFD would prevent.
+template <int Imm>
+PLUME_INLINE __m128 swizzle_ps(__m128 v) noexcept {
+#if defined(__AVX__)
+  return _mm_shuffle_ps(v, v, Imm);
+#else
+  return _mm_castsi128_ps(_mm_shuffle_epi32(_mm_castps_si128(v), Imm));
+#endif
+}
+} // namespace detail
+#endif
+
 /// Orders of Euler angles: the axes of the three rotations, first to last.
 enum class EulerRot { XYZ, XZY, YXZ, YZX, ZXY, ZYX };
 
@@ -215,7 +232,7 @@ struct GQuat {
     return (v + t * w) + u.cross(t);
   }
   /// Hamilton product: rotation by b, then by this.
-  GQuat mul_quat(GQuat const& b) const noexcept {
+  PLUME_INLINE GQuat mul_quat(GQuat const& b) const noexcept {
 #if defined(__SSE2__)
     if constexpr (std::is_same_v<T, float>) {
       // One float quaternion in one SSE register, the same products and sums in the same
@@ -229,16 +246,17 @@ struct GQuat {
           _mm_castsi128_ps(_mm_set_epi32(int(0x80000000u), int(0x80000000u), 0, 0));
       __m128 const sign_03 =
           _mm_castsi128_ps(_mm_set_epi32(int(0x80000000u), 0, 0, int(0x80000000u)));
-      // lanes (x, y, z, w)
-      __m128 r = _mm_mul_ps(_mm_shuffle_ps(a, a, _MM_SHUFFLE(3, 3, 3, 3)), bb); // w * (bx by bz bw)
-      r = _mm_add_ps(r, _mm_mul_ps(_mm_shuffle_ps(a, a, _MM_SHUFFLE(0, 0, 0, 0)),
-                                   _mm_xor_ps(_mm_shuffle_ps(bb, bb, _MM_SHUFFLE(0, 1, 2, 3)),
+      // lanes (x, y, z, w); pshufd swizzles without the copy a two-operand shufps needs
+      using detail::swizzle_ps;
+      __m128 r = _mm_mul_ps(swizzle_ps<_MM_SHUFFLE(3, 3, 3, 3)>(a), bb); // w * (bx by bz bw)
+      r = _mm_add_ps(r, _mm_mul_ps(swizzle_ps<_MM_SHUFFLE(0, 0, 0, 0)>(a),
+                                   _mm_xor_ps(swizzle_ps<_MM_SHUFFLE(0, 1, 2, 3)>(bb),
                                               sign_13))); // + x * (bw, -bz, by, -bx)
-      r = _mm_add_ps(r, _mm_mul_ps(_mm_shuffle_ps(a, a, _MM_SHUFFLE(1, 1, 1, 1)),
-                                   _mm_xor_ps(_mm_shuffle_ps(bb, bb, _MM_SHUFFLE(1, 0, 3, 2)),
+      r = _mm_add_ps(r, _mm_mul_ps(swizzle_ps<_MM_SHUFFLE(1, 1, 1, 1)>(a),
+                                   _mm_xor_ps(swizzle_ps<_MM_SHUFFLE(1, 0, 3, 2)>(bb),
                                               sign_23))); // + y * (bz, bw, -bx, -by)
-      r = _mm_add_ps(r, _mm_mul_ps(_mm_shuffle_ps(a, a, _MM_SHUFFLE(2, 2, 2, 2)),
-                                   _mm_xor_ps(_mm_shuffle_ps(bb, bb, _MM_SHUFFLE(2, 3, 0, 1)),
+      r = _mm_add_ps(r, _mm_mul_ps(swizzle_ps<_MM_SHUFFLE(2, 2, 2, 2)>(a),
+                                   _mm_xor_ps(swizzle_ps<_MM_SHUFFLE(2, 3, 0, 1)>(bb),
                                               sign_03))); // + z * (-by, bx, bw, -bz)
       GQuat out;
       _mm_storeu_ps(&out.x, r);
