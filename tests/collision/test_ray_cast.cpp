@@ -233,6 +233,14 @@ TEST_CASE("ray casts: inside, surface, parallel, zero and non-finite input", "[c
       CHECK(h.toi == 4);
       CHECK(h.normal.y == 1);
     }
+    // The cylinder's cap slab likewise: along the top cap plane, as the d.y = 0 rim case.
+    for (float t : {tiny, -tiny}) {
+      auto const rim = ray_cast_local(Cylinder{1, 0.5f}, Ray3{{-3, 1, 0}, {1, t, 0}}, inf);
+      CHECK(rim.hit);
+      CHECK(rim.toi == 2.5f);
+    }
+    CHECK_FALSE(ray_cast_local(Cylinder{1, 0.5f}, Ray3{{0, -12, 0}, {0, 2e-38f, 0}}, inf).hit);
+    CHECK_FALSE(ray_cast_local(Cylinder{1, 0.5f}, Ray3{{0, 2, 0}, {1, 0, 0}}, inf).hit);
     // An entry so far that (plane - origin) / d overflows: t = +infinity, a miss (not a hit
     // at infinity), even with max_toi = +infinity. (10 * 5e37 > FLT_MAX.)
     auto const far = ray_cast_local(box, Ray3{{0, -12, 0}, {0, 2e-38f, 0}}, inf);

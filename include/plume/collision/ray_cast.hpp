@@ -114,7 +114,12 @@ PLUME_INLINE ray_interval<T> quadric_roots(GVec3<T> f, GVec3<T> d, T r) noexcept
   return out;
 }
 
-/// The slab lo <= o + t d <= hi along one axis; a zero d is parallel (inside or empty).
+/// The slab lo <= o + t d <= hi along one axis. The near and far plane are picked by the sign
+/// of d, so a d that is +-0, or so small that 1/d overflows, gives crossings at -inf..+inf
+/// (origin strictly inside) or at the same infinity (outside: an empty interval, or one that
+/// starts at +inf, which callers treat as a miss); an origin on a plane makes 0 * inf = NaN,
+/// replaced by -inf (tin) and +inf (tout), the origin being in the closed slab. box_cast
+/// inlines the same steps across three axes.
 template <Real T>
 struct slab {
   T tin, tout;
@@ -123,12 +128,11 @@ struct slab {
 template <Real T>
 PLUME_INLINE slab<T> slab_interval(T o, T d, T lo, T hi) noexcept {
   T const inf = infinity<T>();
-  mask_t<T> const par = d == zero<T>();
   mask_t<T> const in = (o >= lo) & (o <= hi);
   T const inv = one<T>() / d;
-  T const t1 = (lo - o) * inv, t2 = (hi - o) * inv;
-  T const pin = plume::select(in, -inf, inf), pout = plume::select(in, inf, -inf);
-  return {plume::select(par, pin, min_of(t1, t2)), plume::select(par, pout, max_of(t1, t2)), in};
+  T const to_lo = lo - o, to_hi = hi - o;
+  T const near = select_sign(d, to_hi, to_lo) * inv, far = select_sign(d, to_lo, to_hi) * inv;
+  return {plume::max_select(near, -inf), plume::min_select(far, inf), in};
 }
 
 /// The hit of the conventions above, before its normal: `leaving` marks hollow hits from
@@ -363,7 +367,8 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCylinder<T> const& cyl, GRay3<T> const& 
   T const tin = plume::select(cap_in, caps.tin, side.tin);
   T const tout = plume::select(cap_out, caps.tout, side.tout);
   T const up = plume::select(d.y < z, one<T>(), -one<T>()); // the cap entered faces -dir
-  mask_t<T> const meets = side.ok & (tin <= tout);
+  // tin <= tout and an entry before +infinity (an outside parallel cap slab starts there).
+  mask_t<T> const meets = side.ok & (tin <= plume::min_select(tout, max_value<T>()));
   detail::ray_interval<T> iv{meets, tin, tout};
   auto const inside = in_disc & (plume::abs(o.y) <= h);
   auto const hit = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, solid);
