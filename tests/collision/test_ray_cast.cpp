@@ -4,7 +4,9 @@
 
 #include <plume/collision/ray_cast.hpp>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <optional>
 #include <vector>
@@ -193,6 +195,11 @@ TEST_CASE("ray casts: inside, surface, parallel, zero and non-finite input", "[c
     CHECK(b.hit);
     CHECK(b.toi == 0.5f);
     CHECK(b.normal.x == 1);
+    auto const bs = ray_cast_local(box, Ray3{{0.5f, 1, -2}, {1, 0, 0}}, inf);
+    CHECK(bs.hit);
+    CHECK(std::bit_cast<std::uint32_t>(bs.toi) == 0u); // +0
+    CHECK(bs.normal.length() == 0);
+    CHECK(bs.feature == -1);
     auto const c = ray_cast_local(box, Ray3{{0, 0, 0}, {0, -2, 0}}, inf, false);
     CHECK(c.toi == 1);
     CHECK(c.normal.y == -1);
@@ -267,7 +274,24 @@ TEST_CASE("ray casts: inside, surface, parallel, zero and non-finite input", "[c
         CHECK(h.toi == inf);
       }
     CHECK_FALSE(ray_cast_local(s, Ray3{{-3, 0, 0}, {nan, 0, 0}}, inf).hit);
-    CHECK_FALSE(ray_cast_local(s, Ray3{{-3, 0, 0}, {1, 0, 0}}, nan).hit);
+    // A NaN max_toi: a miss for every shape, solid or hollow, from outside or inside (no
+    // validity test of its own: toi <= max_toi is false for NaN).
+    for (bool solid : {true, false})
+      for (Vec3 o : {Vec3{-3, 0.1f, 0.2f}, Vec3{0.1f, 0.2f, 0.1f}}) {
+        Ray3 const ray{o, Vec3{1, 0.05f, 0.02f}};
+        for (auto const& h :
+             {ray_cast_local(s, ray, nan, solid), ray_cast_local(box, ray, nan, solid),
+              ray_cast(GAabb3<float>{{-1, -1, -1}, {1, 1, 1}}, ray, nan, solid),
+              ray_cast_local(Capsule{1, 1}, ray, nan, solid),
+              ray_cast_local(Cylinder{1, 1}, ray, nan, solid),
+              ray_cast_local(HalfSpace{{1, 0, 0}}, ray, nan, solid)}) {
+          CHECK_FALSE(h.hit);
+          CHECK(h.toi == inf);
+        }
+      }
+    CHECK_FALSE(ray_cast_local(Triangle{{0, -1, -1}, {0, 1, -1}, {0, 0, 1}},
+                               Ray3{{-3, 0, 0}, {1, 0, 0}}, nan)
+                    .hit);
   }
   SECTION("max distance: inclusive, infinite allowed") {
     CHECK(ray_cast_local(s, Ray3{{-3, 0, 0}, {1, 0, 0}}, 2.0f).hit);

@@ -114,12 +114,33 @@ PLUME_INLINE ray_interval<T> quadric_roots(GVec3<T> f, GVec3<T> d, T r) noexcept
   return out;
 }
 
-/// The slab lo <= o + t d <= hi along one axis. The near and far plane are picked by the sign
-/// of d, so a d that is +-0, or so small that 1/d overflows, gives crossings at -inf..+inf
-/// (origin strictly inside) or at the same infinity (outside: an empty interval, or one that
-/// starts at +inf, which callers treat as a miss); an origin on a plane makes 0 * inf = NaN,
-/// replaced by -inf (tin) and +inf (tout), the origin being in the closed slab. box_cast
-/// inlines the same steps across three axes.
+/// One axis of a slab test lo <= o + t d <= hi: the offsets of the planes from the origin and
+/// the crossings of the near and far plane, picked by the sign of d (before the division, so
+/// a scalar build's branch on it resolves early). A d that is +-0, or so small that 1/d
+/// overflows, gives crossings at -inf and +inf when the origin is strictly inside the slab
+/// and at one infinity when outside (an empty interval, or one starting at +inf: a miss); an
+/// origin on a plane gives 0 * inf = NaN, and is inside the closed slab, so callers ignore a
+/// NaN crossing (slab_interval maps it to -inf / +inf, box_cast's max/min skip it).
+template <Real T>
+struct slab_axis {
+  T to_lo, to_hi; ///< lo - o, hi - o: exact in sign (zero only for equal operands)
+  T near, far;
+};
+template <Real T>
+PLUME_INLINE slab_axis<T> slab_crossings(T o, T d, T lo, T hi) noexcept {
+  T const to_lo = lo - o, to_hi = hi - o;
+  T const inv = one<T>() / d;
+  return {to_lo, to_hi, select_sign(d, to_hi, to_lo) * inv, select_sign(d, to_lo, to_hi) * inv};
+}
+
+/// tin <= tout and tin < +infinity in one compare (every finite tin is <= the largest finite
+/// value): the interval is met, and its entry is not at infinity.
+template <Real T>
+PLUME_INLINE mask_t<T> interval_met(T tin, T tout) noexcept {
+  return tin <= plume::min_select(tout, max_value<T>());
+}
+
+/// The slab lo <= o + t d <= hi along one axis (slab_crossings with NaN crossings replaced).
 template <Real T>
 struct slab {
   T tin, tout;
@@ -128,11 +149,9 @@ struct slab {
 template <Real T>
 PLUME_INLINE slab<T> slab_interval(T o, T d, T lo, T hi) noexcept {
   T const inf = infinity<T>();
-  mask_t<T> const in = (o >= lo) & (o <= hi);
-  T const inv = one<T>() / d;
-  T const to_lo = lo - o, to_hi = hi - o;
-  T const near = select_sign(d, to_hi, to_lo) * inv, far = select_sign(d, to_lo, to_hi) * inv;
-  return {plume::max_select(near, -inf), plume::min_select(far, inf), in};
+  slab_axis<T> const c = slab_crossings(o, d, lo, hi);
+  mask_t<T> const in = (c.to_lo <= zero<T>()) & (c.to_hi >= zero<T>());
+  return {plume::max_select(c.near, -inf), plume::min_select(c.far, inf), in};
 }
 
 /// The hit of the conventions above, before its normal: `leaving` marks hollow hits from
@@ -220,15 +239,11 @@ namespace detail {
 /// The box lo <= p <= hi (in the frame the ray is given in): slab test, entry/exit face
 /// normals. Shared by cuboids (lo = -e, hi = e) and world AABBs.
 ///
-/// Per axis the near and far crossings are picked by the sign of 1/d (= the sign of d, also
-/// for d = +-0: 1/+-0 = +-inf), so an axis the ray is parallel to (d = +-0, or so small that
-/// 1/d overflows) gives +-inf crossings of the right sign: -inf..+inf when the origin is
-/// strictly inside the slab, an empty or infinitely distant interval when outside. The one
-/// NaN, 0 * inf, arises only for an origin on the slab's boundary, which is inside the closed
-/// slab: the accumulation ignores NaN crossings (max_select/min_select keep their second
-/// argument), which is that answer. An entry at +infinity (outside and parallel, or
-/// overflow) is a miss. Whether the origin is inside comes from the signs of lo - o and
-/// hi - o, which are exact (a difference is zero only for equal operands).
+/// Per axis slab_crossings; the accumulation keeps the crossings NaN (an origin on a plane
+/// with a parallel direction, inside that closed slab) and lets max/min skip them
+/// (max_select/min_select keep their second argument), which is that answer without the two
+/// replacements slab_interval makes per axis. An entry at +infinity is a miss (interval_met).
+/// Whether the origin is inside comes from the signs of lo - o and hi - o.
 template <Real T>
 PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T> const& ray,
                                  T max_toi, bool solid) noexcept {
@@ -236,16 +251,10 @@ PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T
   GVec3<T> const& o = ray.origin;
   GVec3<T> const& d = ray.dir;
   T const z = zero<T>(), inf = infinity<T>();
-  V const to_lo = lo - o, to_hi = hi - o;
-  V const inv{one<T>() / d.x, one<T>() / d.y, one<T>() / d.z};
-  // The near and far planes by d's sign (1/d's: the same for every d that is not NaN), chosen
-  // before the division so that a scalar build's select is off its critical path.
-  V const near{select_sign(d.x, to_hi.x, to_lo.x) * inv.x,
-               select_sign(d.y, to_hi.y, to_lo.y) * inv.y,
-               select_sign(d.z, to_hi.z, to_lo.z) * inv.z};
-  V const far{select_sign(d.x, to_lo.x, to_hi.x) * inv.x,
-              select_sign(d.y, to_lo.y, to_hi.y) * inv.y,
-              select_sign(d.z, to_lo.z, to_hi.z) * inv.z};
+  slab_axis<T> const sx = slab_crossings(o.x, d.x, lo.x, hi.x);
+  slab_axis<T> const sy = slab_crossings(o.y, d.y, lo.y, hi.y);
+  slab_axis<T> const sz = slab_crossings(o.z, d.z, lo.z, hi.z);
+  V const near{sx.near, sy.near, sz.near}, far{sx.far, sy.far, sz.far};
   // Entry: the slab entered last (first axis on ties); exit: the slab left first. NaN
   // crossings lose every comparison, so they are never picked.
   T const tin_x = plume::max_select(near.x, -inf), tout_x = plume::min_select(far.x, inf);
@@ -255,23 +264,21 @@ PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T
   ray_interval<T> iv;
   iv.tin = plume::max_select(near.z, tin_xy);
   iv.tout = plume::min_select(far.z, tout_xy);
-  // Met: tin <= tout and an entry before t = +infinity (tin <= tout capped at the largest
-  // finite value is both: every finite tin is <= that cap).
-  iv.ok = iv.tin <= plume::min_select(iv.tout, max_value<T>());
+  iv.ok = interval_met(iv.tin, iv.tout);
   // Inside the closed box: lo - o <= 0 <= hi - o on every axis (a NaN lane is invalid).
-  T const below = plume::max_select(plume::max_select(to_lo.x, to_lo.y), to_lo.z);
-  T const above = plume::min_select(plume::min_select(to_hi.x, to_hi.y), to_hi.z);
+  T const below = plume::max_select(plume::max_select(sx.to_lo, sy.to_lo), sz.to_lo);
+  T const above = plume::min_select(plume::min_select(sx.to_hi, sy.to_hi), sz.to_hi);
   auto const inside = (below <= z) & (above >= z);
   auto const h = finish(ray_valid(ray), inside, iv, max_toi, solid, true);
   // Entering: the face of the entry slab, facing -dir; leaving: the exit slab's, facing dir.
   // That slab is z's where zs, else y's where ys, else x's. The normal there is +-1 along the
-  // axis with the sign bit of 1/d (= d's; on a surface hit d is not +-0 on that axis),
-  // flipped when entering.
+  // axis with the sign bit of d (on a surface hit d is not +-0 on that axis), flipped when
+  // entering.
   auto const ys = plume::select(h.leaving, y_out, y_in);
   auto const zs = plume::select(h.leaving, z_out, z_in);
-  T const inv_axis = plume::select(zs, inv.z, plume::select(ys, inv.y, inv.x));
+  T const d_axis = plume::select(zs, d.z, plume::select(ys, d.y, d.x));
   T const one_out = plume::select(h.leaving, one<T>(), -one<T>()); // +-1 before d's sign
-  T const u = bit_xor(bit_and(inv_axis, -z), one_out);
+  T const u = bit_xor(bit_and(d_axis, -z), one_out);
   auto const surface = h.hit & !h.bare;
   T const nu = plume::keep_if(surface, u);
   GRayHit<T> out;
@@ -367,8 +374,8 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCylinder<T> const& cyl, GRay3<T> const& 
   T const tin = plume::select(cap_in, caps.tin, side.tin);
   T const tout = plume::select(cap_out, caps.tout, side.tout);
   T const up = plume::select(d.y < z, one<T>(), -one<T>()); // the cap entered faces -dir
-  // tin <= tout and an entry before +infinity (an outside parallel cap slab starts there).
-  mask_t<T> const meets = side.ok & (tin <= plume::min_select(tout, max_value<T>()));
+  // An outside parallel cap slab starts at +infinity: interval_met rejects it.
+  mask_t<T> const meets = side.ok & detail::interval_met(tin, tout);
   detail::ray_interval<T> iv{meets, tin, tout};
   auto const inside = in_disc & (plume::abs(o.y) <= h);
   auto const hit = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, solid);

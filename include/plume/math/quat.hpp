@@ -231,7 +231,8 @@ struct GQuat {
     GVec3<T> const t = u.cross(v) * plume::two<T>();
     return (v + t * w) + u.cross(t);
   }
-  /// Hamilton product: rotation by b, then by this.
+  /// Hamilton product: rotation by b, then by this. (Always inlined: g++ otherwise inlines it
+  /// into operator* late, after splitting the result into four floats stored one by one.)
   PLUME_INLINE GQuat mul_quat(GQuat const& b) const noexcept {
 #if defined(__SSE2__)
     if constexpr (std::is_same_v<T, float>) {
