@@ -247,39 +247,43 @@ namespace detail {
 template <Real T>
 PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T> const& ray,
                                  T max_toi, bool solid) noexcept {
-  using V = GVec3<T>;
   GVec3<T> const& o = ray.origin;
   GVec3<T> const& d = ray.dir;
   T const z = zero<T>(), inf = infinity<T>();
+  // Written axis by axis, each folded into running values as soon as it is known, so that a
+  // wide build keeps few registers live (with 16 ymm registers the whole-box form spilled).
+  mask_t<T> const valid = ray_valid(ray);
   slab_axis<T> const sx = slab_crossings(o.x, d.x, lo.x, hi.x);
-  slab_axis<T> const sy = slab_crossings(o.y, d.y, lo.y, hi.y);
-  slab_axis<T> const sz = slab_crossings(o.z, d.z, lo.z, hi.z);
-  V const near{sx.near, sy.near, sz.near}, far{sx.far, sy.far, sz.far};
   // Entry: the slab entered last (first axis on ties); exit: the slab left first. NaN
   // crossings lose every comparison, so they are never picked.
-  T const tin_x = plume::max_select(near.x, -inf), tout_x = plume::min_select(far.x, inf);
-  auto const y_in = near.y > tin_x, y_out = far.y < tout_x;
-  T const tin_xy = plume::max_select(near.y, tin_x), tout_xy = plume::min_select(far.y, tout_x);
-  auto const z_in = near.z > tin_xy, z_out = far.z < tout_xy;
-  ray_interval<T> iv;
-  iv.tin = plume::max_select(near.z, tin_xy);
-  iv.tout = plume::min_select(far.z, tout_xy);
-  iv.ok = interval_met(iv.tin, iv.tout);
+  T const tin_x = plume::max_select(sx.near, -inf), tout_x = plume::min_select(sx.far, inf);
+  slab_axis<T> const sy = slab_crossings(o.y, d.y, lo.y, hi.y);
   // Inside the closed box: lo - o <= 0 <= hi - o on every axis (a NaN lane is invalid).
-  T const below = plume::max_select(plume::max_select(sx.to_lo, sy.to_lo), sz.to_lo);
-  T const above = plume::min_select(plume::min_select(sx.to_hi, sy.to_hi), sz.to_hi);
+  T const below_xy = plume::max_select(sx.to_lo, sy.to_lo);
+  T const above_xy = plume::min_select(sx.to_hi, sy.to_hi);
+  auto const y_in = sy.near > tin_x, y_out = sy.far < tout_x;
+  T const tin_xy = plume::max_select(sy.near, tin_x), tout_xy = plume::min_select(sy.far, tout_x);
+  slab_axis<T> const sz = slab_crossings(o.z, d.z, lo.z, hi.z);
+  T const below = plume::max_select(below_xy, sz.to_lo);
+  T const above = plume::min_select(above_xy, sz.to_hi);
+  auto const z_in = sz.near > tin_xy, z_out = sz.far < tout_xy;
+  ray_interval<T> iv;
+  iv.tin = plume::max_select(sz.near, tin_xy);
+  iv.tout = plume::min_select(sz.far, tout_xy);
+  iv.ok = interval_met(iv.tin, iv.tout);
   auto const inside = (below <= z) & (above >= z);
-  auto const h = finish(ray_valid(ray), inside, iv, max_toi, solid, true);
+  auto const h = finish(valid, inside, iv, max_toi, solid, true);
   // Entering: the face of the entry slab, facing -dir; leaving: the exit slab's, facing dir.
   // That slab is z's where zs, else y's where ys, else x's. The normal there is +-1 along the
   // axis with the sign bit of d (on a surface hit d is not +-0 on that axis), flipped when
-  // entering.
-  auto const ys = plume::select(h.leaving, y_out, y_in);
-  auto const zs = plume::select(h.leaving, z_out, z_in);
+  // entering. A solid cast never leaves: its masks and sign are spelled out, not selected by
+  // the all-false h.leaving (which a compiler need not fold).
+  auto const ys = solid ? y_in : plume::select(h.leaving, y_out, y_in);
+  auto const zs = solid ? z_in : plume::select(h.leaving, z_out, z_in);
   T const d_axis = plume::select(zs, d.z, plume::select(ys, d.y, d.x));
-  T const one_out = plume::select(h.leaving, one<T>(), -one<T>()); // +-1 before d's sign
+  T const one_out = solid ? -one<T>() : plume::select(h.leaving, one<T>(), -one<T>());
   T const u = bit_xor(bit_and(d_axis, -z), one_out);
-  auto const surface = h.hit & !h.bare;
+  auto const surface = solid ? h.hit & !inside : h.hit;
   T const nu = plume::keep_if(surface, u);
   GRayHit<T> out;
   out.hit = h.hit;
