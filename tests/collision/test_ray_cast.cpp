@@ -213,6 +213,29 @@ TEST_CASE("ray casts: inside, surface, parallel, zero and non-finite input", "[c
     CHECK(in.toi == 2); // hollow: across to the far side
     CHECK(ray_cast_local(box, Ray3{{1, 0, 0}, {1, 0, 0}}, inf).hit);
   }
+  SECTION("box: a solid cast whose entry time rounds to 0 starts in contact") {
+    // 1e-30 outside the face x = 0. With |d| <= 1 the entry time stays nonzero and the face
+    // is hit from outside; with d.x = 1e20 it underflows to +0 (1e-30 / 1e20): the solid cast
+    // counts that as starting inside (toi +0, no normal, feature -1), the hollow cast, which
+    // tests the signs of lo - o exactly, as an outside hit at +0 through the -x face.
+    GAabb3<float> const unit{{0, 0, 0}, {1, 1, 1}};
+    Vec3 const o{-1e-30f, 0.5f, 0.5f};
+    auto const near = ray_cast(unit, Ray3{o, {1, 0, 0}}, inf);
+    CHECK(near.hit);
+    CHECK(near.toi == 1e-30f);
+    CHECK(near.normal.x == -1);
+    CHECK(near.feature == 0);
+    auto const solid = ray_cast(unit, Ray3{o, {1e20f, 0, 0}}, inf);
+    CHECK(solid.hit);
+    CHECK(std::bit_cast<std::uint32_t>(solid.toi) == 0u);
+    CHECK(solid.normal.length() == 0);
+    CHECK(solid.feature == -1);
+    auto const hollow = ray_cast(unit, Ray3{o, {1e20f, 0, 0}}, inf, false);
+    CHECK(hollow.hit);
+    CHECK(hollow.toi == 0);
+    CHECK(hollow.normal.x == -1);
+    CHECK(hollow.feature == 0);
+  }
   SECTION("origin on a slab plane with a +0 or -0 direction component") {
     for (float zero : {0.0f, -0.0f}) {
       // Along the face y = 2 (grazing the box): hits, the origin being on the closed box.

@@ -243,7 +243,12 @@ namespace detail {
 /// with a parallel direction, inside that closed slab) and lets max/min skip them
 /// (max_select/min_select keep their second argument), which is that answer without the two
 /// replacements slab_interval makes per axis. An entry at +infinity is a miss (interval_met).
-/// Whether the origin is inside comes from the signs of lo - o and hi - o.
+/// Whether the origin is inside comes from the signs of lo - o and hi - o (exact) for a hollow
+/// cast. A solid cast reads it off the entry time instead, one compare for seven: it starts
+/// inside (toi +0, no normal, feature -1) where tin <= 0. That is the closed box, and also an
+/// origin outside by so little that its entry time (lo - o) / d underflows to 0, which needs
+/// a direction component larger than 1 in magnitude (|d| <= 1 keeps a nonzero offset's
+/// crossing nonzero); its toi is +0 either way, only the normal is left out.
 template <Real T>
 PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T> const& ray,
                                  T max_toi, bool solid) noexcept {
@@ -282,8 +287,9 @@ PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T
   auto const zs = solid ? z_in : plume::select(h.leaving, z_out, z_in);
   T const d_axis = plume::select(zs, d.z, plume::select(ys, d.y, d.x));
   T const one_out = solid ? -one<T>() : plume::select(h.leaving, one<T>(), -one<T>());
-  T const u = bit_xor(bit_and(d_axis, -z), one_out);
-  auto const surface = solid ? h.hit & !inside : h.hit;
+  T const u =
+      solid ? select_sign(d_axis, one<T>(), -one<T>()) : bit_xor(bit_and(d_axis, -z), one_out);
+  auto const surface = solid ? h.hit & (iv.tin > z) : h.hit;
   T const nu = plume::keep_if(surface, u);
   GRayHit<T> out;
   out.hit = h.hit;
