@@ -1,13 +1,14 @@
 // plume_bench_collision: closed-form ray casts, scalar against every width.
 //
-// Names follow <case>/f32/plume/x<width>; items = ray casts. "N rays x N shapes": ray i
-// against shape i (N = 4096; origins in [-4, 4]^3 aimed near the shape, so about half hit);
-// "one ray x N spheres": the same ray (splat) against every sphere. Shapes are given by a
-// centre (sphere, capsule, cylinder: the ray is moved into the shape frame by a subtraction),
-// a world box (AABB, stored as its min and max corners), a full pose (oriented box: a quaternion
-// rotation per ray), or world vertices (triangle: the corners of the box's axes around the centre).
-// The per-ray lambdas are forced inline (PLUME_BENCH_INLINE): g++ otherwise may keep one out of
-// line, and the timed loop then measures a call and a result passed through memory.
+// Names follow <case>/f32/plume/x<width>; items = ray casts. ray_<shape>, "N rays x N
+// shapes": ray i against shape i (N = 4096; origins in [-4, 4]^3 aimed near the shape, so
+// about half hit); one_ray_<shape>, "one ray x N shapes": ray 0 (splat) against every shape.
+// Shapes are given by a centre (sphere, capsule, cylinder: the ray is moved into the shape
+// frame by a subtraction), a world box (AABB, stored as its min and max corners), a full pose
+// (oriented box: a quaternion rotation per ray), or world vertices (triangle: the corners of
+// the box's axes around the centre). The per-ray lambdas are forced inline
+// (PLUME_BENCH_INLINE): g++ otherwise may keep one out of line, and the timed loop then
+// measures a call and a result passed through memory.
 #include <plume/collision.hpp>
 
 #include "../bench_support.hpp"
@@ -16,6 +17,7 @@
 
 #include <random>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace {
@@ -87,54 +89,64 @@ void register_width() {
   std::string const w = "/f32/plume/x" + std::to_string(L);
   using V = plume::GVec3<T>;
   T const inf = plume::infinity<T>();
+  // Each cast is registered twice: ray_<shape> casts ray i at shape i; one_ray_<shape> casts
+  // ray 0, splat over the lanes, at every shape (what the ray's own work costs once it is
+  // loop-invariant: 1/d and the ray's validity are hoisted by the compiler).
   auto reg = [&](char const* name, auto cast) {
-    benchmark::RegisterBenchmark((std::string(name) + w).c_str(), [cast](benchmark::State& st) {
+    auto const run = [cast](benchmark::State& st, auto one_ray) {
       packed<T> const p;
+      V const o0(data().o[0]), d0(data().d[0]);
       plume::bench::run_items(st, N, [&] {
-        for (std::size_t i = 0; i < p.o.size(); ++i) {
-          auto const hit = cast(p, i);
-          benchmark::DoNotOptimize(hit.toi);
+        if constexpr (decltype(one_ray)::value) {
+          // Copies local to the loop: DoNotOptimize's memory clobber would otherwise make the
+          // compiler reload o0 and d0 (captured by reference) and redo 1/d on every cast.
+          V const o = o0, d = d0;
+          for (std::size_t i = 0; i < p.o.size(); ++i) {
+            auto const hit = cast(p, i, o, d);
+            benchmark::DoNotOptimize(hit.toi);
+          }
+        } else {
+          for (std::size_t i = 0; i < p.o.size(); ++i) {
+            auto const hit = cast(p, i, p.o[i], p.d[i]);
+            benchmark::DoNotOptimize(hit.toi);
+          }
         }
       });
-    });
+    };
+    benchmark::RegisterBenchmark((std::string("ray_") + name + w).c_str(),
+                                 [run](benchmark::State& st) { run(st, std::false_type{}); });
+    benchmark::RegisterBenchmark((std::string("one_ray_") + name + w).c_str(),
+                                 [run](benchmark::State& st) { run(st, std::true_type{}); });
   };
-  reg("ray_sphere", [inf](packed<T> const& p, std::size_t i) PLUME_BENCH_INLINE {
-    return plume::ray_cast_local(plume::GSphere<T>{p.r[i]},
-                                 plume::GRay3<T>{p.o[i] - p.c[i], p.d[i]}, inf);
+  reg("sphere", [inf](packed<T> const& p, std::size_t i, V const& o,
+                      V const& d) PLUME_BENCH_INLINE {
+    return plume::ray_cast_local(plume::GSphere<T>{p.r[i]}, plume::GRay3<T>{o - p.c[i], d}, inf);
   });
-  reg("ray_aabb", [inf](packed<T> const& p, std::size_t i) PLUME_BENCH_INLINE {
-    return plume::ray_cast(p.box[i], plume::GRay3<T>{p.o[i], p.d[i]}, inf);
+  reg("aabb", [inf](packed<T> const& p, std::size_t i, V const& o, V const& d) PLUME_BENCH_INLINE {
+    return plume::ray_cast(p.box[i], plume::GRay3<T>{o, d}, inf);
   });
-  reg("ray_capsule", [inf](packed<T> const& p, std::size_t i) PLUME_BENCH_INLINE {
-    return plume::ray_cast_local(plume::GCapsule<T>{p.h[i], p.r[i]},
-                                 plume::GRay3<T>{p.o[i] - p.c[i], p.d[i]}, inf);
-  });
-  reg("ray_cylinder", [inf](packed<T> const& p, std::size_t i) PLUME_BENCH_INLINE {
-    return plume::ray_cast_local(plume::GCylinder<T>{p.h[i], p.r[i]},
-                                 plume::GRay3<T>{p.o[i] - p.c[i], p.d[i]}, inf);
-  });
-  reg("ray_oriented_box", [inf](packed<T> const& p, std::size_t i) PLUME_BENCH_INLINE {
-    return plume::ray_cast(plume::GCuboid<T>{p.e[i]}, plume::GIso3<T>{p.q[i], p.c[i]},
-                           plume::GRay3<T>{p.o[i], p.d[i]}, inf);
-  });
-  reg("ray_triangle", [inf](packed<T> const& p, std::size_t i) PLUME_BENCH_INLINE {
-    T const z = plume::zero<T>();
-    plume::GTriangle<T> const tri{p.c[i] + V{p.e[i].x, z, z}, p.c[i] + V{z, p.e[i].y, z},
-                                  p.c[i] + V{z, z, p.e[i].z}};
-    return plume::ray_cast_local(tri, plume::GRay3<T>{p.o[i], p.d[i]}, inf);
-  });
-  benchmark::RegisterBenchmark(("one_ray_spheres" + w).c_str(), [](benchmark::State& st) {
-    packed<T> const p;
-    auto const& s = data();
-    V const o(s.o[0]), d(s.d[0]);
-    plume::bench::run_items(st, N, [&] {
-      for (std::size_t i = 0; i < p.o.size(); ++i) {
-        auto const hit = plume::ray_cast_local(
-            plume::GSphere<T>{p.r[i]}, plume::GRay3<T>{o - p.c[i], d}, plume::infinity<T>());
-        benchmark::DoNotOptimize(hit.toi);
-      }
-    });
-  });
+  reg("capsule",
+      [inf](packed<T> const& p, std::size_t i, V const& o, V const& d) PLUME_BENCH_INLINE {
+        return plume::ray_cast_local(plume::GCapsule<T>{p.h[i], p.r[i]},
+                                     plume::GRay3<T>{o - p.c[i], d}, inf);
+      });
+  reg("cylinder",
+      [inf](packed<T> const& p, std::size_t i, V const& o, V const& d) PLUME_BENCH_INLINE {
+        return plume::ray_cast_local(plume::GCylinder<T>{p.h[i], p.r[i]},
+                                     plume::GRay3<T>{o - p.c[i], d}, inf);
+      });
+  reg("oriented_box",
+      [inf](packed<T> const& p, std::size_t i, V const& o, V const& d) PLUME_BENCH_INLINE {
+        return plume::ray_cast(plume::GCuboid<T>{p.e[i]}, plume::GIso3<T>{p.q[i], p.c[i]},
+                               plume::GRay3<T>{o, d}, inf);
+      });
+  reg("triangle",
+      [inf](packed<T> const& p, std::size_t i, V const& o, V const& d) PLUME_BENCH_INLINE {
+        T const z = plume::zero<T>();
+        plume::GTriangle<T> const tri{p.c[i] + V{p.e[i].x, z, z}, p.c[i] + V{z, p.e[i].y, z},
+                                      p.c[i] + V{z, z, p.e[i].z}};
+        return plume::ray_cast_local(tri, plume::GRay3<T>{o, d}, inf);
+      });
 }
 
 } // namespace
