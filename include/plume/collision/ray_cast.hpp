@@ -194,11 +194,24 @@ PLUME_INLINE pre_hit<T> finish(mask_t<T> valid, mask_t<T> inside, ray_interval<T
   h.toi = plume::select(h.hit, h.toi, infinity<T>());
   return h;
 }
+/// select(m, v, 0) per component, as one AND each where masks are lane-wide bit patterns.
+template <Real T>
+PLUME_INLINE GVec3<T> keep_where(mask_t<T> m, GVec3<T> const& v) noexcept {
+  return {plume::keep_if(m, v.x), plume::keep_if(m, v.y), plume::keep_if(m, v.z)};
+}
+/// The hit h with normal n and feature where it is on the surface (not bare), zero and -1
+/// elsewhere; the second form also zeroes n where has_normal is false (a degenerate shape).
 template <Real T>
 PLUME_INLINE GRayHit<T> with_normal(pre_hit<T> const& h, GVec3<T> const& n,
                                     T feature = zero<T>()) noexcept {
   mask_t<T> const surface = h.hit & !h.bare;
-  return {h.hit, h.toi, GVec3<T>::select(surface, n, GVec3<T>{}),
+  return {h.hit, h.toi, keep_where(surface, n), plume::select(surface, feature, -one<T>())};
+}
+template <Real T>
+PLUME_INLINE GRayHit<T> with_normal(pre_hit<T> const& h, GVec3<T> const& n, T feature,
+                                    mask_t<T> has_normal) noexcept {
+  mask_t<T> const surface = h.hit & !h.bare;
+  return {h.hit, h.toi, keep_where(surface & has_normal, n),
           plume::select(surface, feature, -one<T>())};
 }
 
@@ -231,8 +244,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray,
   auto const h = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, solid);
   // The normal p / r with one division; a zero radius has no normal.
   T const inv_r = one<T>() / s.radius;
-  GVec3<T> const n = GVec3<T>::select(s.radius > zero<T>(), ray.at(h.toi) * inv_r, GVec3<T>{});
-  return detail::with_normal(h, n);
+  return detail::with_normal(h, ray.at(h.toi) * inv_r, zero<T>(), s.radius > zero<T>());
 }
 
 namespace detail {
@@ -363,9 +375,9 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& r
   V const p = ray.at(hit.toi);
   T const inv_r = one<T>() / r;
   T const cy_hit = plume::clamp_select(p.y, -h, h);
-  V const n = V::select(r > z, V{p.x, p.y - cy_hit, p.z} * inv_r, V{});
+  V const n = V{p.x, p.y - cy_hit, p.z} * inv_r;
   T const part = plume::select(p.y > h, one<T>(), plume::select(p.y < -h, two<T>(), z));
-  return detail::with_normal(hit, n, part);
+  return detail::with_normal(hit, n, part, r > z);
 }
 
 /// Cylinder (local frame: radius r around Y, caps at y = +-h): the intersection of the
@@ -504,7 +516,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
   V const n = detail::unit_or_zero(tri.scaled_normal());
   M const back = n.dot(d) > z; // coming from behind: the back face
   V const facing = V::select(back, -n, n);
-  return {hit, plume::select(hit, t, infinity<T>()), V::select(hit, facing, V{}),
+  return {hit, plume::select(hit, t, infinity<T>()), detail::keep_where(hit, facing),
           plume::select(hit, plume::select(back, one<T>(), z), -one<T>())};
 }
 
