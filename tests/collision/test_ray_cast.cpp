@@ -332,6 +332,14 @@ TEST_CASE("ray casts: inside, surface, parallel, zero and non-finite input", "[c
     CHECK_FALSE(ray_cast_local(Sphere{0}, Ray3{{-3, 0.001f, 0}, {1, 0, 0}}, inf).hit);
     CHECK(ray_cast_local(Cuboid{{1, 0, 1}}, Ray3{{0, 5, 0}, {0, -1, 0}}, inf).toi == 5);
     CHECK(ray_cast_local(Capsule{1, 0}, Ray3{{0, 5, 0}, {0, -1, 0}}, inf).toi == 4);
+    // A zero radius has no normal: zero, not p / 0.
+    for (auto const& h : {ray_cast_local(Sphere{0}, Ray3{{-3, 0, 0}, {1, 0, 0}}, inf),
+                          ray_cast_local(Capsule{1, 0}, Ray3{{0, 5, 0}, {0, -1, 0}}, inf)}) {
+      CHECK(h.hit);
+      CHECK(h.normal.x == 0);
+      CHECK(h.normal.y == 0);
+      CHECK(h.normal.z == 0);
+    }
   }
   SECTION("capsule and cylinder: along the axis, at the cap seam") {
     Capsule const cap{1, 0.5f};

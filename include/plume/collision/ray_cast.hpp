@@ -331,7 +331,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCuboid<T> const& box, GRay3<T> const& ra
 /// (the one facing the ray for a ray along the axis, which misses the side); the exit
 /// likewise. Both end spheres are intersected alongside the side rather than the one a
 /// crossing needs after it: that sphere would wait for the side's square root and division,
-/// and the chain of two such steps bounded the kernel (x1 and x8 are 10-17% faster this way).
+/// and the chain of two such steps bounded the kernel (latency, at every width).
 /// A solid cast from outside needs only the entry (the origin is outside a convex set, so
 /// the entry is ahead iff tin >= 0).
 template <Real T>
@@ -347,12 +347,12 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& r
   auto const top = detail::sphere_part(V{o.x, o.y - h, o.z}, d, r);
   auto const bottom = detail::sphere_part(V{o.x, o.y + h, o.z}, d, r);
   auto const axial = (d.x == z) & (d.z == z);
-  // The end sphere crossed: on the side of the cylinder's crossing, or for a ray along the
-  // axis the end facing the ray (entering) or away from it (leaving). True for the top.
-  auto const up = d.y < z;
+  // The end sphere crossed (true: the top): on the side of the cylinder's crossing, or for a
+  // ray along the axis the end facing the ray (entering) or away from it (leaving).
+  auto const top_faces = d.y < z; // the ray moves down, towards the top end's outside
   auto const top_crossed = [&](T t_side, bool entering) {
     T const y = o.y + d.y * t_side;
-    return plume::select(axial, entering ? up : !up, !(y < z));
+    return plume::select(axial, entering ? top_faces : !top_faces, !(y < z));
   };
   auto const on_side = [&](T t_side) { return side.ok & (plume::abs(o.y + d.y * t_side) <= h); };
   mask_t<T> const reach = side.ok | axial;
