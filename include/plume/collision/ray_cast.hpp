@@ -299,8 +299,7 @@ PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T
   auto const zs = solid ? z_in : plume::select(h.leaving, z_out, z_in);
   T const d_axis = plume::select(zs, d.z, plume::select(ys, d.y, d.x));
   T const one_out = solid ? -one<T>() : plume::select(h.leaving, one<T>(), -one<T>());
-  T const u =
-      solid ? select_sign(d_axis, one<T>(), -one<T>()) : bit_xor(bit_and(d_axis, -z), one_out);
+  T const u = select_sign(d_axis, -one_out, one_out);
   auto const surface = solid ? h.hit & (iv.tin > z) : h.hit;
   T const nu = plume::keep_if(surface, u);
   GRayHit<T> out;
