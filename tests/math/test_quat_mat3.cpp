@@ -186,6 +186,55 @@ TEMPLATE_LIST_TEST_CASE("Eigen agrees with plume's matrices and quaternions", "[
   }
 }
 
+TEMPLATE_LIST_TEST_CASE("slerp against long double, across angles and t", "[math][quat][slerp]",
+                        test::real_types) {
+  // The f32 series weights (t in [-1/2, 3/2]) and the acos/sincos path (f64, and f32 beyond),
+  // on the given inputs' exact slerp: random pairs, pairs 2^-k apart (k < 24) and exactly
+  // perpendicular ones (half angle pi/4, the edge of the series' domain).
+  using T = TestType;
+  using S = scalar_t<T>;
+  double const eps = test::eps_v<S>;
+  test::rng r(11);
+  double worst = 0, worst_far = 0;
+  for (int it = 0; it < 4000; ++it) {
+    GQuat<T> q1 = r.quat<T>(), q2 = r.quat<T>();
+    if (it % 4 == 1) {
+      T const step = splat<T>(S(std::ldexp(1.0, -(it / 4) % 24)));
+      q2 = GQuat<T>{q1.x + step * q2.x, q1.y + step * q2.y, q1.z + step * q2.z, q1.w + step * q2.w}
+               .normalize();
+    } else if (it % 4 == 2) {
+      q2 = GQuat<T>{-q1.y, q1.x, -q1.w, q1.z}; // dot = 0 exactly
+    }
+    bool const far = it % 8 == 7;
+    T const t = far ? r.elem<T>(-3, 4) : r.elem<T>(-0.5, 1.5);
+    GQuat<T> const got = q1.slerp(q2, t);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      auto const a = lane(q1, i), b = lane(q2, i), g = lane(got, i);
+      long double const ti = lane(t, i);
+      long double d = (long double)a.x * b.x + (long double)a.y * b.y + (long double)a.z * b.z +
+                      (long double)a.w * b.w;
+      long double const sign = d < 0 ? -1 : 1;
+      d = std::min(std::abs(d), 1.0L);
+      long double const ang = std::acos(d);
+      long double const w0 = ang < 1e-30L ? 1 - ti : std::sin((1 - ti) * ang) / std::sin(ang);
+      long double const w1 = ang < 1e-30L ? ti : sign * std::sin(ti * ang) / std::sin(ang);
+      long double const ex[4] = {w0 * a.x + w1 * b.x, w0 * a.y + w1 * b.y, w0 * a.z + w1 * b.z,
+                                 w0 * a.w + w1 * b.w};
+      S const gv[4] = {g.x, g.y, g.z, g.w};
+      double err = 0;
+      for (int c = 0; c < 4; ++c)
+        err = std::max(err, double(std::abs(gv[c] - ex[c])));
+      // Rounding grows with the weights, which grow with |t - 1/2|.
+      double const rel = err / (eps * (1 + std::abs(double(ti) - 0.5)));
+      (far ? worst_far : worst) = std::max(far ? worst_far : worst, rel);
+      INFO("t = " << double(ti) << ", angle " << double(ang) << ": error " << err / eps << " eps");
+      CHECK(err <= (far ? 6 : 3) * eps * (1 + std::abs(double(ti) - 0.5)));
+    }
+  }
+  WARN("slerp error / (eps (1 + |t - 1/2|)): " << worst << " for t in [-1/2, 3/2], " << worst_far
+                                               << " for t in [-3, 4]");
+}
+
 TEMPLATE_LIST_TEST_CASE("quat and mat3 degenerate input", "[math][quat][mat3]", test::real_types) {
   using T = TestType;
   using S = scalar_t<T>;

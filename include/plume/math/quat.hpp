@@ -6,8 +6,9 @@
 // Degenerate input (each documented result is the same for scalar and wide lanes):
 //  - from_scaled_axis(zero) = IDENTITY; to_axis_angle of (near) IDENTITY = {X, 0}.
 //  - from_rotation_arc(a, b) of opposite vectors: a half turn about a.any_orthonormal_vector().
-//  - slerp of identical quaternions: the normalised lerp (no 0/0); of opposite ones (q, -q):
-//    takes the shortest path, so the result is q at every t.
+//  - slerp of identical quaternions: q to rounding (f32: the series weights, smooth through
+//    angle 0; f64: the normalised lerp, no 0/0); of opposite ones (q, -q): takes the shortest
+//    path, so the result is q at every t.
 //  - normalize() of the zero quaternion gives NaN (as glam); inverse() is the conjugate
 //    (exact for unit quaternions, which is what rotations are).
 // Euler angles: from_euler(order, a, b, c) = R(first axis, a) R(second, b) R(third, c)
@@ -17,6 +18,8 @@
 
 #include <plume/math/mat3.hpp>
 #include <plume/math/vec3.hpp>
+
+#include <array>
 
 #if defined(__SSE2__)
 #include <immintrin.h>
@@ -45,6 +48,50 @@ PLUME_INLINE __m128 swizzle_ps(__m128 v) noexcept {
 
 /// Orders of Euler angles: the axes of the three rotations, first to last.
 enum class EulerRot { XYZ, XZY, YXZ, YZX, ZXY, ZYX };
+
+namespace detail {
+/// sin(t a) / sin(a) for cos a = 1 - y, by multiplies and adds only: the series
+/// sum_i c_i(t) y^i, c_0 = t, c_i = c_(i-1) (i^2 - t^2) / (i (2i + 1)) (Eberly, "A Fast and
+/// Accurate Algorithm for Computing SLERP", 2011), cut after i = 7 with that last term scaled
+/// by 1 + mu, mu balancing the truncation error over t in [0, 1] at y = 1 - cos(pi/4).
+/// Meant for a in [0, pi/4] (y in [0, 0.2929]), where the truncation error, measured in long
+/// double on a 301 x 101 grid, is <= 1.0e-9 for t in [0, 1] and <= 4.8e-9 for t in [-2, 3] (slerp
+/// uses [-1, 2]); it grows quickly for larger |t| (the c_i are polynomials of degree 2i + 1) and
+/// for larger y. y2, y4 are y^2, y^4 (shared by the weights of a slerp).
+template <Float T>
+PLUME_INLINE T sin_ratio_series(T t, T y, T y2, T y4) noexcept {
+  using S = scalar_t<T>;
+  constexpr int n = 7;
+  // k_i = (i^2 - t^2) / (i (2i + 1)) = a_i - t^2 r_i, so that c_i = c_(i-1) k_i.
+  constexpr auto r = [] {
+    std::array<S, n + 1> v{};
+    for (int i = 1; i <= n; ++i)
+      v[i] = static_cast<S>((i == n ? 1.152781554 : 1.0) / (double(i) * (2 * i + 1)));
+    return v;
+  }();
+  constexpr auto a = [] {
+    std::array<S, n + 1> v{};
+    for (int i = 1; i <= n; ++i)
+      v[i] = static_cast<S>((i == n ? 1.152781554 : 1.0) * i / (2 * i + 1));
+    return v;
+  }();
+  T const u = t * t;
+  std::array<T, n + 1> k{}, c{};
+  for (int i = 1; i <= n; ++i)
+    k[i] = plume::mul_add(u, splat<T>(-r[i]), splat<T>(a[i]));
+  // The odd c_i along a chain of products of pairs k_(i-1) k_i, the even ones off it.
+  c[0] = t;
+  c[1] = t * k[1];
+  for (int i = 3; i <= n; i += 2)
+    c[i] = c[i - 2] * (k[i - 1] * k[i]);
+  for (int i = 2; i < n; i += 2)
+    c[i] = c[i - 1] * k[i];
+  // Estrin's scheme in y: 3 levels of a + b y^(2^l) instead of 7 of Horner's.
+  T const e0 = plume::mul_add(c[1], y, c[0]), e1 = plume::mul_add(c[3], y, c[2]);
+  T const e2 = plume::mul_add(c[5], y, c[4]), e3 = plume::mul_add(c[7], y, c[6]);
+  return plume::mul_add(plume::mul_add(e3, y2, e2), y4, plume::mul_add(e1, y2, e0));
+}
+} // namespace detail
 
 template <Float T>
 struct GQuat {
@@ -281,12 +328,61 @@ struct GQuat {
                  plume::lerp(w, e.w, t)}
         .normalize();
   }
-  /// Spherical linear interpolation along the shorter arc, constant angular speed; nearly
-  /// parallel inputs (cos > 1 - eps) use lerp instead.
+  /// Spherical linear interpolation along the shorter arc, at constant angular speed: the
+  /// weights sin((1 - t) a) / sin a and sin(t a) / sin a, a the angle between the quaternions
+  /// (unit quaternions; the result is unit to rounding). t in [0, 1] interpolates, others
+  /// extrapolate.
+  ///  - f32, t in [-1/2, 3/2]: the weights are polynomials in t and 1 - cos(a/2)
+  ///    (detail::sin_ratio_series): a square root and a division, no acos or sincos, no branch,
+  ///    and smooth through a = 0, so identical inputs need no special case. Measured against
+  ///    long double on 2e6 random pairs: components within 4.3 * 2^-24 for t in [0, 1]
+  ///    (acos/sincos: 3.6) and 6.8 * 2^-24 for t in [-1/2, 3/2] (5.4).
+  ///  - f64, and f32 lanes with other t: a = acos(d) and one sincos; nearly parallel inputs
+  ///    (cos a > 1 - eps) use the normalised lerp instead.
   GQuat slerp(GQuat const& end, T t) const noexcept {
-    T d = dot(end);
-    mask_t<T> const flip = d < plume::zero<T>();
-    GQuat const e = select(flip, -end, end);
+    T const d = dot(end);
+    GQuat const e = select(d < plume::zero<T>(), -end, end);
+    if constexpr (std::is_same_v<scalar_t<T>, float>) {
+      mask_t<T> const series_ok = (t >= -half<T>()) & (t <= splat<T>(scalar_t<T>(1.5)));
+      if (!plume::all(series_ok)) [[unlikely]]
+        return select(series_ok, slerp_series(e, plume::abs(d), t), slerp_trig(e, d, t));
+      return slerp_series(e, plume::abs(d), t);
+    } else {
+      return slerp_trig(e, d, t);
+    }
+  }
+  /// Rotates towards b by at most max_angle (radians); b itself when within 1e-4 rad.
+  GQuat rotate_towards(GQuat const& b, T max_angle) const noexcept {
+    T const angle = angle_between(b);
+    mask_t<T> const arrive = angle <= splat<T>(scalar_type(1e-4));
+    T const f = plume::clamp(max_angle / plume::select(arrive, plume::one<T>(), angle),
+                             -plume::one<T>(), plume::one<T>());
+    return select(arrive, b, slerp(b, f));
+  }
+
+private:
+  /// slerp towards e (dot(e) = ad >= 0) by series weights on half the angle: with
+  /// h = (this + e) / (2 cos(a/2)) the midpoint, slerp(t) is slerp(2t) from this to h for
+  /// t <= 1/2 and slerp(2t - 1) from h to e after, both over the angle a/2 <= pi/4, where the
+  /// series needs 8 terms. The half is chosen by j = 0 or 1 in products, not selects: scalar
+  /// selects compile to branches, which random t would mispredict. Inputs a little off unit
+  /// length (ad > 1) give a y a little below 0, where the series is as good.
+  GQuat slerp_series(GQuat const& e, T ad, T t) const noexcept {
+    T const ch = plume::sqrt((plume::one<T>() + ad) * half<T>()); // cos(a/2)
+    T const yh = plume::one<T>() - ch, y2 = yh * yh, y4 = y2 * y2;
+    T const inv = half<T>() / ch;                               // 1 / |this + e|
+    T const j = plume::keep_if(t > half<T>(), plume::one<T>()); // the second half
+    T const nj = plume::one<T>() - j;
+    T const s = (t + t) - j; // exact
+    T const ws = detail::sin_ratio_series(s, yh, y2, y4);
+    T const wr = detail::sin_ratio_series(plume::one<T>() - s, yh, y2, y4);
+    // The weight through h goes to both ends, the other one to its own end (x * 1 + y * 0 is
+    // x exactly: the weights are finite, or NaN together).
+    T const wh = (ws * nj + wr * j) * inv;
+    return *this * (wh + wr * nj) + e * (wh + ws * j);
+  }
+  /// slerp towards e by acos and sincos; d is the dot product with the unflipped end.
+  GQuat slerp_trig(GQuat const& e, T d, T t) const noexcept {
     d = plume::abs(d);
     mask_t<T> const near = d > plume::one<T>() - plume::epsilon<T>();
     if constexpr (ScalarReal<T>) {
@@ -305,15 +401,8 @@ struct GQuat {
     GQuat const general = *this * s0 + e * s1;
     return select(near, lerp(e, t), general);
   }
-  /// Rotates towards b by at most max_angle (radians); b itself when within 1e-4 rad.
-  GQuat rotate_towards(GQuat const& b, T max_angle) const noexcept {
-    T const angle = angle_between(b);
-    mask_t<T> const arrive = angle <= splat<T>(scalar_type(1e-4));
-    T const f = plume::clamp(max_angle / plume::select(arrive, plume::one<T>(), angle),
-                             -plume::one<T>(), plume::one<T>());
-    return select(arrive, b, slerp(b, f));
-  }
 
+public:
   friend GQuat operator*(GQuat const& a, GQuat const& b) noexcept { return a.mul_quat(b); }
   friend GVec3<T> operator*(GQuat const& q, GVec3<T> const& v) noexcept { return q.mul_vec3(v); }
   friend GQuat operator*(GQuat const& q, T s) noexcept {
