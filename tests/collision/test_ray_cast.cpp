@@ -564,8 +564,16 @@ TEMPLATE_LIST_TEST_CASE("every ray cast is lane-exact", "[collision][ray][lanes]
   auto const check = [&](char const* name, auto const& wide_shape, auto lane_shape, auto cast) {
     for (std::size_t k = 0; k < 200; ++k) {
       GRay3<T> const ray = make_ray(k);
-      T const max_toi =
-          plume::select(r.elem<T>(0, 1) < splat<T>(0.2), r.elem<T>(0, 6), infinity<T>());
+      // max_toi: finite or +inf, and on every third ray a special value per lane (NaN, +-0,
+      // negative, tiny, huge): the wide solid box folds its bounds into one compare, scalar
+      // code does not, and the two must agree.
+      T max_toi = plume::select(r.elem<T>(0, 1) < splat<T>(0.2), r.elem<T>(0, 6), infinity<T>());
+      if (k % 3 == 2) {
+        S const special[] = {nan<S>(), S(-0.0),       S(0), S(-1),
+                             S(1e-30), infinity<S>(), S(3), std::numeric_limits<S>::max()};
+        for (std::size_t i = 0; i < lanes_v<T>; ++i)
+          max_toi = plume::with_lane(max_toi, i, special[(k / 3 + i) % 8]);
+      }
       bool const solid = k % 2 == 0;
       auto const w = cast(wide_shape, ray, max_toi, solid);
       for (std::size_t i = 0; i < lanes_v<T>; ++i) {
@@ -606,6 +614,15 @@ TEMPLATE_LIST_TEST_CASE("every ray cast is lane-exact", "[collision][ray][lanes]
   check(
       "half-space", GHalfSpace<T>{hn}, [&](std::size_t i) { return GHalfSpace<S>{lane(hn, i)}; },
       cast_local);
+  GVec3<T> const lo = r.vec3<T>(-2, 0);
+  check(
+      "aabb", GAabb3<T>{lo, lo + ext},
+      [&](std::size_t i) {
+        return GAabb3<S>{lane(lo, i), lane(lo + ext, i)};
+      },
+      [](auto const& box, auto const& ray, auto max_toi, bool solid) {
+        return ray_cast(box, ray, max_toi, solid);
+      });
   check(
       "posed cuboid", std::pair{GCuboid<T>{ext}, pose},
       [&](std::size_t i) {

@@ -161,24 +161,15 @@ struct pre_hit {
   mask_t<T> hit, leaving, bare;
   T toi;
 };
-/// ok_where_inside: the caller's interval is known to reach t = 0 wherever the origin is
-/// inside (iv.ok, tin <= 0 <= tout: the slab test's) and iv.ok to include tin <= tout, so a
-/// solid hit needs no inside term.
 template <Real T>
 PLUME_INLINE pre_hit<T> finish(mask_t<T> valid, mask_t<T> inside, ray_interval<T> const& iv,
-                               T max_toi, bool solid, bool ok_where_inside = false) noexcept {
+                               T max_toi, bool solid) noexcept {
   T const z = zero<T>();
   auto const reach = iv.ok & (iv.tout >= z) & (iv.tin <= iv.tout);
   auto const outside = !inside;
   T const t_enter = max_of(iv.tin, z);
   pre_hit<T> h;
-  if (solid && ok_where_inside) {
-    // tin <= 0 inside: max(tin, +0) is +0 there, without a select.
-    h.toi = plume::max_select(iv.tin, z);
-    h.hit = valid & iv.ok & (iv.tout >= z); // = valid & (inside | (outside & reach))
-    h.leaving = z < z;
-    h.bare = inside;
-  } else if (solid) {
+  if (solid) {
     h.toi = plume::select(inside, z, t_enter);
     h.hit = valid & (inside | (outside & reach));
     h.leaving = z < z;
@@ -287,9 +278,26 @@ PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T
   ray_interval<T> iv;
   iv.tin = plume::max_select(sz.near, tin_xy);
   iv.tout = plume::min_select(sz.far, tout_xy);
-  iv.ok = interval_met(iv.tin, iv.tout);
-  auto const inside = (below <= z) & (above >= z);
-  auto const h = finish(valid, inside, iv, max_toi, solid, true);
+  pre_hit<T> h;
+  if (solid) {
+    // tin <= 0 <= tout inside, so no inside term: a hit where max(tin, 0) <= tout, tin is
+    // finite (interval_met) and the toi within max_toi (false for a NaN max_toi). For batches
+    // that is max(tin, 0) <= min(tout, FLT_MAX, max_toi), one compare (tin and tout are never
+    // NaN; min_select keeps a NaN max_toi): 62 vector ops per 8 rays instead of 66, x8 10%
+    // faster. Scalars keep the separate compares (the same mask): with the fold g++ branches
+    // on the mins in the SSE2 build, 4-7% slower there.
+    T const toi = plume::max_select(iv.tin, z);
+    if constexpr (is_batch_v<T>)
+      h.hit =
+          valid & (toi <= plume::min_select(iv.tout, plume::min_select(max_value<T>(), max_toi)));
+    else
+      h.hit = valid & interval_met(iv.tin, iv.tout) & (iv.tout >= z) & (toi <= max_toi);
+    h.toi = plume::select(h.hit, toi, inf);
+    h.leaving = h.bare = z < z; // not read: the solid normal below tests tin > 0 itself
+  } else {
+    iv.ok = interval_met(iv.tin, iv.tout);
+    h = finish(valid, (below <= z) & (above >= z), iv, max_toi, false);
+  }
   // Entering: the face of the entry slab, facing -dir; leaving: the exit slab's, facing dir.
   // That slab is z's where zs, else y's where ys, else x's. The normal there is +-1 along the
   // axis with the sign bit of d (on a surface hit d is not +-0 on that axis), flipped when
