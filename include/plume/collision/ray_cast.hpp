@@ -206,14 +206,14 @@ PLUME_INLINE GRayHit<T> with_normal(pre_hit<T> const& h, GVec3<T> const& n, T fe
           plume::select(surface, feature, -one<T>())};
 }
 
-/// Finite origin and direction: x - x is 0 for finite x and NaN otherwise. (A NaN max_toi
-/// needs no test: every hit requires toi <= max_toi, which is false for NaN.)
+/// Finite origin and direction: x - x is 0 for finite x and NaN otherwise, so the sums for
+/// the origin and the direction are equal (both 0) exactly when all six are finite. (A NaN
+/// max_toi needs no test: every hit requires toi <= max_toi, which is false for NaN.)
 template <Real T>
 PLUME_INLINE mask_t<T> ray_valid(GRay3<T> const& ray) noexcept {
-  T const s = ((ray.origin.x - ray.origin.x) + (ray.origin.y - ray.origin.y)) +
-              ((ray.origin.z - ray.origin.z) + (ray.dir.x - ray.dir.x)) +
-              ((ray.dir.y - ray.dir.y) + (ray.dir.z - ray.dir.z));
-  return s == zero<T>();
+  GVec3<T> const& o = ray.origin;
+  GVec3<T> const& d = ray.dir;
+  return ((o.x - o.x) + (o.y - o.y)) + (o.z - o.z) == ((d.x - d.x) + (d.y - d.y)) + (d.z - d.z);
 }
 
 /// Sphere of radius r at f's origin: f is the ray origin relative to the centre.
@@ -317,9 +317,10 @@ PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T
   T const not_z = bit_xor(nu, out.normal.z); // nu where not z's, else 0
   out.normal.y = plume::keep_if(ys, not_z);
   out.normal.x = bit_xor(not_z, out.normal.y);
-  // Face 2 axis + (outward normal positive); -1 without a surface.
-  T const face = plume::select(zs, splat<T>(4), plume::keep_if(ys, splat<T>(2))) +
-                 plume::keep_if(u > z, one<T>());
+  // Face 2 axis + (outward normal positive), as (2 axis + 1/2) + u/2 (exact); -1 without
+  // a surface.
+  T const face =
+      plume::select(zs, splat<T>(4.5), plume::select(ys, splat<T>(2.5), half<T>())) + half<T>() * u;
   out.feature = plume::select(surface, face, -one<T>());
   return out;
 }
