@@ -82,9 +82,11 @@
 #if defined(__GNUC__)
 #define PLUME_INLINE inline __attribute__((always_inline))
 #define PLUME_NOINLINE __attribute__((noinline))
+#define PLUME_FLATTEN __attribute__((flatten))
 #else
 #define PLUME_INLINE inline
 #define PLUME_NOINLINE
+#define PLUME_FLATTEN
 #endif
 
 namespace plume {
