@@ -39,7 +39,8 @@ struct GVec3 {
   T x, y, z;
 
   /// Zero.
-  constexpr GVec3() noexcept : x(plume::zero<T>()), y(plume::zero<T>()), z(plume::zero<T>()) {}
+  PLUME_INLINE constexpr GVec3() noexcept
+      : x(plume::zero<T>()), y(plume::zero<T>()), z(plume::zero<T>()) {}
   constexpr GVec3(T x_, T y_, T z_) noexcept : x(x_), y(y_), z(z_) {}
   /// Every lane set to the scalar vector v (wide vectors only).
   template <class U>
