@@ -79,6 +79,10 @@
 #define PLUME_MASK_CODE_END
 #endif
 
+// PLUME_INLINE: small functions that must vanish into their caller (a wide kernel that calls
+// out of line passes every batch through memory). PLUME_FLATTEN: on the few large entry
+// points (GJK queries) whose size makes g++ stop inlining even trivial methods inside them;
+// it inlines every call in their body.
 #if defined(__GNUC__)
 #define PLUME_INLINE inline __attribute__((always_inline))
 #define PLUME_NOINLINE __attribute__((noinline))

@@ -256,8 +256,8 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
 /// centre difference.
 template <Real T, ConvexShape<T> A, ConvexShape<T> B>
 PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_a, B const& b,
-                                 GIso3<T> const& pose_b, GjkConfig const& cfg = {},
-                                 GVec3<T> const& axis = {}) noexcept {
+                                               GIso3<T> const& pose_b, GjkConfig const& cfg = {},
+                                               GVec3<T> const& axis = {}) noexcept {
   using S = scalar_t<T>;
   T const z = zero<T>();
   detail::placed<A, T> const sa{a, pose_a};
@@ -348,9 +348,9 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
 /// [0, cfg.max_toi]; B is still: pass the relative motion) with b (at pose_b): the smallest t
 /// where their distance is at most cfg.target_distance.
 template <Real T, ConvexShape<T> A, ConvexShape<T> B>
-PLUME_FLATTEN GShapeCastHit<T> shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a,
-                            B const& b, GIso3<T> const& pose_b,
-                            ShapeCastConfig const& cfg = {}) noexcept {
+PLUME_FLATTEN GShapeCastHit<T>
+shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const& b,
+           GIso3<T> const& pose_b, ShapeCastConfig const& cfg = {}) noexcept {
   using S = scalar_t<T>;
   T const z = zero<T>();
   detail::placed<A, T> const sa{a, pose_a};
@@ -394,8 +394,9 @@ PLUME_FLATTEN GShapeCastHit<T> shape_cast(A const& a, GIso3<T> const& pose_a, GV
 /// cap report their conservative toi as a hit. feature is -1 (a hull's face can be found
 /// from the normal with GConvexHull::support_face).
 template <Real T, ConvexShape<T> Shape>
-PLUME_FLATTEN GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, GRay3<T> const& ray, T max_toi,
-                        bool solid = true, GjkConfig const& cfg = {}) noexcept {
+PLUME_FLATTEN GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, GRay3<T> const& ray,
+                                      T max_toi, bool solid = true,
+                                      GjkConfig const& cfg = {}) noexcept {
   T const z = zero<T>();
   detail::origin_support<T> const none{};
   detail::placed<Shape, T> const sb{shape, pose};
