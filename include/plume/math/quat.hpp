@@ -62,17 +62,18 @@ template <Float T>
 PLUME_INLINE T sin_ratio_series(T t, T y, T y2, T y4) noexcept {
   using S = scalar_t<T>;
   constexpr int n = 7;
+  constexpr double last = 1.152781554; // 1 + mu, on the term of c_n
   // k_i = (i^2 - t^2) / (i (2i + 1)) = a_i - t^2 r_i, so that c_i = c_(i-1) k_i.
   constexpr auto r = [] {
     std::array<S, n + 1> v{};
     for (int i = 1; i <= n; ++i)
-      v[i] = static_cast<S>((i == n ? 1.152781554 : 1.0) / (double(i) * (2 * i + 1)));
+      v[i] = static_cast<S>((i == n ? last : 1.0) / (double(i) * (2 * i + 1)));
     return v;
   }();
   constexpr auto a = [] {
     std::array<S, n + 1> v{};
     for (int i = 1; i <= n; ++i)
-      v[i] = static_cast<S>((i == n ? 1.152781554 : 1.0) * i / (2 * i + 1));
+      v[i] = static_cast<S>((i == n ? last : 1.0) * i / (2 * i + 1));
     return v;
   }();
   T const u = t * t;
@@ -339,6 +340,9 @@ struct GQuat {
   ///    (acos/sincos: 3.6) and 6.8 * 2^-24 for t in [-1/2, 3/2] (5.4).
   ///  - f64, and f32 lanes with other t: a = acos(d) and one sincos; nearly parallel inputs
   ///    (cos a > 1 - eps) use the normalised lerp instead.
+  /// Bad input: a NaN or infinite component or t gives NaN in that lane. Inputs a few ulp off
+  /// unit length behave as unit ones (|dot| > 1 counts as parallel); far from unit length the
+  /// result is not a rotation (normalise first).
   GQuat slerp(GQuat const& end, T t) const noexcept {
     T const d = dot(end);
     GQuat const e = select(d < plume::zero<T>(), -end, end);
