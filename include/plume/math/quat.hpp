@@ -279,41 +279,46 @@ struct GQuat {
     GVec3<T> const t = u.cross(v) * plume::two<T>();
     return (v + t * w) + u.cross(t);
   }
-  /// Hamilton product: rotation by b, then by this. (Always inlined: g++ otherwise inlines it
-  /// into operator* late, after splitting the result into four floats stored one by one.)
+  /// Hamilton product: rotation by b, then by this. Each component is two pairs of products,
+  /// each pair summed, then the pairs combined:
+  ///   x = (w bx + y bz) + (x bw - z by)      y = (w by + y bw) - (x bz - z bx)
+  ///   z = (w bz - y bx) + (x by + z bw)      w = (w bw - y by) - (x bx + z bz)
+  /// (two additions deep after the products, where a chain is three). For float it is one
+  /// SSE register per quaternion, with the same products and sums per component, so the
+  /// bits are those of the generic line, signed zeros included; the lane-exactness tests
+  /// compare the two. (Always inlined: g++ otherwise inlines it into operator* late, after
+  /// splitting the result into four floats stored one by one.)
   PLUME_INLINE GQuat mul_quat(GQuat const& b) const noexcept {
 #if defined(__SSE2__)
     if constexpr (std::is_same_v<T, float>) {
-      // One float quaternion in one SSE register, the same products and sums in the same
-      // order per component as the generic line below (a - p computed as a + (-p), which
-      // IEEE 754 defines identically), so the result is bit for bit the same; the wide
-      // lane-exactness tests compare the two.
-      __m128 const a = _mm_loadu_ps(&x), bb = _mm_loadu_ps(&b.x);
-      __m128 const sign_13 =
-          _mm_castsi128_ps(_mm_set_epi32(int(0x80000000u), 0, int(0x80000000u), 0));
-      __m128 const sign_23 =
-          _mm_castsi128_ps(_mm_set_epi32(int(0x80000000u), int(0x80000000u), 0, 0));
-      __m128 const sign_03 =
-          _mm_castsi128_ps(_mm_set_epi32(int(0x80000000u), 0, 0, int(0x80000000u)));
-      // lanes (x, y, z, w); pshufd swizzles without the copy a two-operand shufps needs
+      // In lanes (x, y, z, w), with b' = (bx, by, -bz, -bw) and the exact rewrites
+      // p - (-q) = p + q and p * (-q) = -(p * q) (IEEE 754; a sum is never negated, since
+      // -(p + q) and (-p) + (-q) differ when p + q is an exact zero):
+      //   l = w (bx by bz bw) - y (b'z b'w b'x b'y)  =  the first pair of every component
+      //   m = x (bw bz by bx) - z (b'y b'x b'w b'z)  =  the second pair, in lanes x and z,
+      //                                                 and the pair subtracted, in y and w
+      //   result = l + (+, -, +, -) m
       using detail::swizzle_ps;
-      __m128 r = _mm_mul_ps(swizzle_ps<_MM_SHUFFLE(3, 3, 3, 3)>(a), bb); // w * (bx by bz bw)
-      r = _mm_add_ps(r, _mm_mul_ps(swizzle_ps<_MM_SHUFFLE(0, 0, 0, 0)>(a),
-                                   _mm_xor_ps(swizzle_ps<_MM_SHUFFLE(0, 1, 2, 3)>(bb),
-                                              sign_13))); // + x * (bw, -bz, by, -bx)
-      r = _mm_add_ps(r, _mm_mul_ps(swizzle_ps<_MM_SHUFFLE(1, 1, 1, 1)>(a),
-                                   _mm_xor_ps(swizzle_ps<_MM_SHUFFLE(1, 0, 3, 2)>(bb),
-                                              sign_23))); // + y * (bz, bw, -bx, -by)
-      r = _mm_add_ps(r, _mm_mul_ps(swizzle_ps<_MM_SHUFFLE(2, 2, 2, 2)>(a),
-                                   _mm_xor_ps(swizzle_ps<_MM_SHUFFLE(2, 3, 0, 1)>(bb),
-                                              sign_03))); // + z * (-by, bx, bw, -bz)
+      __m128 const a = _mm_loadu_ps(&x), bb = _mm_loadu_ps(&b.x);
+      __m128 const flip_zw =
+          _mm_castsi128_ps(_mm_set_epi32(int(0x80000000u), int(0x80000000u), 0, 0));
+      __m128 const flip_yw =
+          _mm_castsi128_ps(_mm_set_epi32(int(0x80000000u), 0, int(0x80000000u), 0));
+      __m128 const bf = _mm_xor_ps(bb, flip_zw);
+      __m128 const l = _mm_sub_ps(_mm_mul_ps(swizzle_ps<_MM_SHUFFLE(3, 3, 3, 3)>(a), bb),
+                                  _mm_mul_ps(swizzle_ps<_MM_SHUFFLE(1, 1, 1, 1)>(a),
+                                             swizzle_ps<_MM_SHUFFLE(1, 0, 3, 2)>(bf)));
+      __m128 const m = _mm_sub_ps(_mm_mul_ps(swizzle_ps<_MM_SHUFFLE(0, 0, 0, 0)>(a),
+                                             swizzle_ps<_MM_SHUFFLE(0, 1, 2, 3)>(bb)),
+                                  _mm_mul_ps(swizzle_ps<_MM_SHUFFLE(2, 2, 2, 2)>(a),
+                                             swizzle_ps<_MM_SHUFFLE(2, 3, 0, 1)>(bf)));
       GQuat out;
-      _mm_storeu_ps(&out.x, r);
+      _mm_storeu_ps(&out.x, _mm_add_ps(l, _mm_xor_ps(m, flip_yw)));
       return out;
     }
 #endif
-    return {((w * b.x + x * b.w) + y * b.z) - z * b.y, ((w * b.y - x * b.z) + y * b.w) + z * b.x,
-            ((w * b.z + x * b.y) - y * b.x) + z * b.w, ((w * b.w - x * b.x) - y * b.y) - z * b.z};
+    return {(w * b.x + y * b.z) + (x * b.w - z * b.y), (w * b.y + y * b.w) - (x * b.z - z * b.x),
+            (w * b.z - y * b.x) + (x * b.y + z * b.w), (w * b.w - y * b.y) - (x * b.x + z * b.z)};
   }
 
   static GQuat select(mask_t<T> m, GQuat const& a, GQuat const& b) noexcept {
