@@ -303,6 +303,11 @@ std::uint64_t collision_battery() {
     auto const r2 = ray_cast(GCuboid<T>{we}, wb, ray, inf, false);
     auto const r3 = ray_cast(GCylinder<T>{wh, wr}, wb, ray, inf);
     auto const r4 = ray_cast_local(GTriangle<T>{verts[0], verts[1], verts[2]}, ray, inf);
+    // Spheres solid and hollow (the solid cast has its own entry-root path), a solid cuboid
+    // (the folded hit test).
+    auto const r5 = ray_cast(GSphere<T>{wr + wh}, wb, ray, inf);
+    auto const r6 = ray_cast(GSphere<T>{wr + wh}, wb, ray, inf, false);
+    auto const r7 = ray_cast(GCuboid<T>{we}, wb, ray, inf);
     for (std::size_t l = 0; l < L; ++l) {
       auto add3 = [&](GVec3<T> const& a) {
         auto const x = lane(a, l);
@@ -310,7 +315,7 @@ std::uint64_t collision_battery() {
       };
       h.add(lane(cp.distance, l)), add3(cp.point_a), add3(cp.normal), h.add(lane(cp.iterations, l));
       h.add(lane(sc.toi, l)), add3(sc.normal), add3(sc.point_b);
-      for (auto const* r : {&rg, &r1, &r2, &r3, &r4})
+      for (auto const* r : {&rg, &r1, &r2, &r3, &r4, &r5, &r6, &r7})
         h.add(lane(r->toi, l)), add3(r->normal), h.add(lane(r->feature, l));
     }
   }

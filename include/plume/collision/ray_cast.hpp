@@ -227,12 +227,36 @@ PLUME_INLINE ray_interval<T> sphere_part(GVec3<T> const& f, GVec3<T> const& d, T
 // ==================================================================================== shapes
 
 /// Sphere (local frame: centred at the origin).
+///
+/// A solid cast needs only the entry root: from outside (|f| > r, so c > 0) the line meets
+/// the sphere ahead exactly where it approaches the centre (b < 0; both roots then have the
+/// sign of -b) and the discriminant is >= 0, and the entry is c / q with q = sqrt(disc) - b
+/// > 0: one division, one rounding after c and q. A hollow cast takes both roots.
 template <Real T>
 PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray, T max_toi,
                                        bool solid = true) noexcept {
-  auto const iv = detail::sphere_part(ray.origin, ray.dir, s.radius);
-  auto const inside = ray.origin.length_squared() <= s.radius * s.radius;
-  auto const h = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, solid);
+  T const r2 = s.radius * s.radius;
+  auto const inside = ray.origin.length_squared() <= r2;
+  detail::pre_hit<T> h;
+  if (solid) {
+    GVec3<T> const& f = ray.origin;
+    GVec3<T> const& d = ray.dir;
+    T const z = zero<T>();
+    T const a = d.dot(d), b = f.dot(d), c = f.dot(f) - r2;
+    T const disc = a * r2 - f.cross(d).length_squared();
+    T const toi = plume::select(inside, z, c / (plume::sqrt(disc) - b));
+    // A zero direction meets nothing from outside (a > 0); an entry at +infinity is a miss
+    // and a NaN max_toi misses (min_select keeps it), as for boxes.
+    auto const enters = ((disc >= z) & (b < z)) & (a > z);
+    h.hit = (detail::ray_valid(ray) & (inside | enters)) &
+            (toi <= plume::min_select(max_value<T>(), max_toi));
+    h.toi = plume::select(h.hit, toi, infinity<T>());
+    h.leaving = z < z;
+    h.bare = inside;
+  } else {
+    auto const iv = detail::sphere_part(ray.origin, ray.dir, s.radius);
+    h = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, false);
+  }
   // The normal p / r with one division; a zero radius has no normal.
   T const inv_r = one<T>() / s.radius;
   return detail::with_normal(h, ray.at(h.toi) * inv_r, zero<T>(), s.radius > zero<T>());
