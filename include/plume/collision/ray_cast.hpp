@@ -114,6 +114,36 @@ PLUME_INLINE ray_interval<T> quadric_roots(GVec3<T> f, GVec3<T> d, T r) noexcept
   return out;
 }
 
+/// Where a line from outside enters |f + t d| <= r (the xz form, a cylinder's side, when
+/// Flat), for solid casts, which need no exit: from outside (c > 0) the roots have the sign
+/// of -b, so the set lies ahead exactly where b < 0 and disc >= 0, and the entry is c / q
+/// with q = sqrt(disc) - b > 0 (one division, one rounding after c and q). ok is false from
+/// inside or on the surface (c <= 0), for a zero direction (a = 0) and for NaN input.
+template <Real T>
+struct entry_root {
+  mask_t<T> ok;
+  T t; ///< meaningful where ok
+};
+template <bool Flat, Real T>
+PLUME_INLINE entry_root<T> quadric_entry(GVec3<T> const& f, GVec3<T> const& d, T r) noexcept {
+  T const z = zero<T>(), r2 = r * r;
+  T a, b, c, disc;
+  if constexpr (Flat) {
+    a = d.x * d.x + d.z * d.z;
+    b = f.x * d.x + f.z * d.z;
+    c = (f.x * f.x + f.z * f.z) - r2;
+    T const cross_y = f.z * d.x - f.x * d.z;
+    disc = a * r2 - cross_y * cross_y;
+  } else {
+    a = d.dot(d);
+    b = f.dot(d);
+    c = f.dot(f) - r2;
+    disc = a * r2 - f.cross(d).length_squared();
+  }
+  mask_t<T> const ok = (((c > z) & (b < z)) & (disc >= z)) & (a > z);
+  return {ok, c / (plume::sqrt(disc) - b)};
+}
+
 /// One axis of a slab test lo <= o + t d <= hi: the offsets of the planes from the origin and
 /// the crossings of the near and far plane, picked by the sign of d (before the division, so
 /// a scalar build's branch on it resolves early). A d that is +-0, or so small that 1/d
@@ -228,10 +258,7 @@ PLUME_INLINE ray_interval<T> sphere_part(GVec3<T> const& f, GVec3<T> const& d, T
 
 /// Sphere (local frame: centred at the origin).
 ///
-/// A solid cast needs only the entry root: from outside (|f| > r, so c > 0) the line meets
-/// the sphere ahead exactly where it approaches the centre (b < 0; both roots then have the
-/// sign of -b) and the discriminant is >= 0, and the entry is c / q with q = sqrt(disc) - b
-/// > 0: one division, one rounding after c and q. A hollow cast takes both roots.
+/// A solid cast needs only the entry root (quadric_entry); a hollow cast takes both roots.
 template <Real T>
 PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray, T max_toi,
                                        bool solid = true) noexcept {
@@ -239,16 +266,12 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray,
   auto const inside = ray.origin.length_squared() <= r2;
   detail::pre_hit<T> h;
   if (solid) {
-    GVec3<T> const& f = ray.origin;
-    GVec3<T> const& d = ray.dir;
     T const z = zero<T>();
-    T const a = d.dot(d), b = f.dot(d), c = f.dot(f) - r2;
-    T const disc = a * r2 - f.cross(d).length_squared();
-    T const toi = plume::select(inside, z, c / (plume::sqrt(disc) - b));
-    // A zero direction meets nothing from outside (a > 0); an entry at +infinity is a miss
-    // and a NaN max_toi misses (min_select keeps it), as for boxes.
-    auto const enters = ((disc >= z) & (b < z)) & (a > z);
-    h.hit = (detail::ray_valid(ray) & (inside | enters)) &
+    auto const e = detail::quadric_entry<false>(ray.origin, ray.dir, s.radius);
+    T const toi = plume::select(inside, z, e.t);
+    // An entry at +infinity is a miss and a NaN max_toi misses (min_select keeps it), as for
+    // boxes.
+    h.hit = (detail::ray_valid(ray) & (inside | e.ok)) &
             (toi <= plume::min_select(max_value<T>(), max_toi));
     h.toi = plume::select(h.hit, toi, infinity<T>());
     h.leaving = z < z;
@@ -350,15 +373,15 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCuboid<T> const& box, GRay3<T> const& ra
   return detail::box_cast(-box.half_extents, box.half_extents, ray, max_toi, solid);
 }
 
-/// Capsule (local frame: radius r around the segment (0, -h, 0) - (0, h, 0)). The capsule
-/// lies inside the infinite cylinder of radius r, so its entry is the cylinder's entry when
-/// that point is within |y| <= h, and otherwise the entry into the end sphere on that side
-/// (the one facing the ray for a ray along the axis, which misses the side); the exit
-/// likewise. Both end spheres are intersected alongside the side rather than the one a
-/// crossing needs after it: that sphere would wait for the side's square root and division,
-/// and the chain of two such steps bounded the kernel (latency, at every width).
-/// A solid cast from outside needs only the entry (the origin is outside a convex set, so
-/// the entry is ahead iff tin >= 0).
+/// Capsule (local frame: radius r around the segment (0, -h, 0) - (0, h, 0)). A solid cast
+/// takes the entry roots of the side and of both end spheres and keeps the first (see
+/// below). A hollow cast needs the exit too: the capsule lies inside the infinite cylinder
+/// of radius r, so its entry is the cylinder's entry when that point is within |y| <= h,
+/// and otherwise the entry into the end sphere on that side (the one facing the ray for a
+/// ray along the axis, which misses the side); the exit likewise. Both end spheres are
+/// intersected alongside the side rather than the one a crossing needs after it: that
+/// sphere would wait for the side's square root and division, and the chain of two such
+/// steps bounded the kernel (latency, at every width).
 template <Real T>
 PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& ray, T max_toi,
                                        bool solid = true) noexcept {
@@ -366,36 +389,54 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& r
   V const& o = ray.origin;
   V const& d = ray.dir;
   T const z = zero<T>(), h = cap.half_height, r = cap.radius;
-  auto const side = detail::quadric_roots<true>(o, d, r);
-  // Both end spheres, independent of the side's roots (a wide kernel's latency chain is then
-  // one quadric deep, not two); each crossing picks its sphere's roots below.
-  auto const top = detail::sphere_part(V{o.x, o.y - h, o.z}, d, r);
-  auto const bottom = detail::sphere_part(V{o.x, o.y + h, o.z}, d, r);
-  auto const axial = (d.x == z) & (d.z == z);
-  // The end sphere crossed (true: the top): on the side of the cylinder's crossing, or for a
-  // ray along the axis the end facing the ray (entering) or away from it (leaving).
-  auto const top_faces = d.y < z; // the ray moves down, towards the top end's outside
-  auto const top_crossed = [&](T t_side, bool entering) {
-    T const y = o.y + d.y * t_side;
-    return plume::select(axial, entering ? top_faces : !top_faces, !(y < z));
-  };
-  auto const on_side = [&](T t_side) { return side.ok & (plume::abs(o.y + d.y * t_side) <= h); };
-  mask_t<T> const reach = side.ok | axial;
-  mask_t<T> const top_in = top_crossed(side.tin, true);
-  mask_t<T> const side_in = on_side(side.tin);
-  detail::ray_interval<T> iv;
-  iv.tin = plume::select(side_in, side.tin, plume::select(top_in, top.tin, bottom.tin));
-  iv.ok = reach & (side_in | plume::select(top_in, top.ok, bottom.ok));
-  iv.tout = iv.tin; // a solid cast from outside: the exit is not needed (see above)
-  if (!solid) {
+  T const cy = plume::clamp_select(o.y, -h, h); // (a NaN lane is invalid already)
+  auto const inside = (V{o.x, o.y - cy, o.z}.length_squared() <= r * r);
+  detail::pre_hit<T> hit;
+  if (solid) {
+    // From outside, the capsule (the union of the finite cylinder and the end spheres, all
+    // convex) is entered where the first of them is: the side where its entry lies within
+    // |y| <= h (the cylinder's flat ends are inside the spheres), or an end sphere. Three
+    // entry roots, each independent of the others (one quadric deep), and their minimum.
+    T const inf = infinity<T>();
+    auto const side = detail::quadric_entry<true>(o, d, r);
+    auto const top = detail::quadric_entry<false>(V{o.x, o.y - h, o.z}, d, r);
+    auto const bottom = detail::quadric_entry<false>(V{o.x, o.y + h, o.z}, d, r);
+    T const t_side = plume::select(side.ok & (plume::abs(o.y + d.y * side.t) <= h), side.t, inf);
+    T const t_ends =
+        detail::min_of(plume::select(top.ok, top.t, inf), plume::select(bottom.ok, bottom.t, inf));
+    // No entry leaves +infinity, a miss; so is an entry at +infinity and a NaN max_toi.
+    T const toi = plume::select(inside, z, detail::min_of(t_side, t_ends));
+    hit.hit = detail::ray_valid(ray) & (toi <= plume::min_select(max_value<T>(), max_toi));
+    hit.toi = plume::select(hit.hit, toi, inf);
+    hit.leaving = z < z;
+    hit.bare = inside;
+  } else {
+    auto const side = detail::quadric_roots<true>(o, d, r);
+    // Both end spheres, independent of the side's roots (a wide kernel's latency chain is then
+    // one quadric deep, not two); each crossing picks its sphere's roots below.
+    auto const top = detail::sphere_part(V{o.x, o.y - h, o.z}, d, r);
+    auto const bottom = detail::sphere_part(V{o.x, o.y + h, o.z}, d, r);
+    auto const axial = (d.x == z) & (d.z == z);
+    // The end sphere crossed (true: the top): on the side of the cylinder's crossing, or for a
+    // ray along the axis the end facing the ray (entering) or away from it (leaving).
+    auto const top_faces = d.y < z; // the ray moves down, towards the top end's outside
+    auto const top_crossed = [&](T t_side, bool entering) {
+      T const y = o.y + d.y * t_side;
+      return plume::select(axial, entering ? top_faces : !top_faces, !(y < z));
+    };
+    auto const on_side = [&](T t_side) { return side.ok & (plume::abs(o.y + d.y * t_side) <= h); };
+    mask_t<T> const reach = side.ok | axial;
+    mask_t<T> const top_in = top_crossed(side.tin, true);
+    mask_t<T> const side_in = on_side(side.tin);
+    detail::ray_interval<T> iv;
+    iv.tin = plume::select(side_in, side.tin, plume::select(top_in, top.tin, bottom.tin));
+    iv.ok = reach & (side_in | plume::select(top_in, top.ok, bottom.ok));
     mask_t<T> const top_out = top_crossed(side.tout, false);
     mask_t<T> const side_out = on_side(side.tout);
     iv.tout = plume::select(side_out, side.tout, plume::select(top_out, top.tout, bottom.tout));
     iv.ok = iv.ok & (side_out | plume::select(top_out, top.ok, bottom.ok));
+    hit = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, false);
   }
-  T const cy = plume::clamp_select(o.y, -h, h); // (a NaN lane is invalid already)
-  auto const inside = (V{o.x, o.y - cy, o.z}.length_squared() <= r * r);
-  auto const hit = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, solid);
   // The outward normal (p - nearest point of the segment) / r; a zero radius has none.
   V const p = ray.at(hit.toi);
   T const inv_r = one<T>() / r;
