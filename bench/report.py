@@ -2,7 +2,10 @@
 """plume's width report, from Google Benchmark JSON files of several build variants.
 
 Benchmark names follow  <case...>/<type>/<implementation>/x<width>  (see bench/*/); with
-repetitions the median is used. Usage:
+several files of one variant (rounds), the fastest round is used (a round's median where it
+has repetitions): on a shared machine interference only ever slows a run down (a whole round
+can read 40% slow for one build), so the fastest is the closest to the code's own speed.
+Usage:
     report.py OUT_DIR WIDEST VARIANT=RESULT.json [VARIANT=RESULT.json ...]
 Prints and writes OUT_DIR/width_report.md with two tables:
   across builds     plume x1 of the scalar build, and plume at the widest width of every
@@ -13,7 +16,6 @@ and, when matplotlib is available, OUT_DIR/width_report.png (the across-builds s
 """
 import json
 import os
-import statistics
 import sys
 from collections import OrderedDict, defaultdict
 
@@ -44,7 +46,7 @@ def load(paths):
             runs[(case, parts[-2], int(parts[-1][1:]))].append(float(ips))
     table = OrderedDict()
     for (case, impl, width), vals in runs.items():
-        table.setdefault(case, {})[(impl, width)] = statistics.median(vals)
+        table.setdefault(case, {})[(impl, width)] = max(vals)
     return table, context or {}
 
 
@@ -91,7 +93,7 @@ def main():
     host = ctx.get("host_name", "?")
     lines = ["# plume width report", "",
              f"Machine: {host}, {ctx.get('num_cpus', '?')} CPUs at {ctx.get('mhz_per_cpu', '?')} MHz; "
-             f"{ctx.get('date', '')}. Figures are items/s (median of the repetitions).", ""]
+             f"{ctx.get('date', '')}. Figures are items/s (the fastest of the rounds).", ""]
 
     # Across builds: scalar x1 against each wide build's widest plume width.
     across = OrderedDict()

@@ -5,12 +5,17 @@
 #
 # Installs missing Debian packages (as root), then builds the scalar, sse2, avx2 and avx512
 # variants (those this CPU runs) with their benchmarks in build/report-<variant>, runs every
-# benchmark binary with repetitions, and prints two tables:
+# benchmark binary of every build in rounds, and prints two tables:
 #   across builds      plume's scalar build (x1) against each wide build at its widest width
 #   within one build   the widest build: every width and the peers (std, Eigen, SLEEF, xsimd)
 #                      with ratios to x1 measured in the same run
+# Each figure is the median over the rounds. A round runs each benchmark binary in every build
+# one after the other, so the builds compared across are measured seconds apart, and a slow
+# phase of a shared machine (its clock drifts by 20-40% for minutes) falls on all of them
+# rather than on the one build that happened to run then.
 # Output: build/report/width_report.md, width_report.png (chart) and the raw JSON.
-# PLUME_REPORT_REPS (default 5) and PLUME_REPORT_MIN_TIME (seconds, default 0.1) tune the run.
+# PLUME_REPORT_ROUNDS (default 5), PLUME_REPORT_REPS (repetitions per round, default 1) and
+# PLUME_REPORT_MIN_TIME (seconds, default 0.1) tune the run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -33,17 +38,25 @@ for v in "${variants[@]}"; do
   cmake -S "$root" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DPLUME_SIMD="$v" \
     -DPLUME_BUILD_TESTS=OFF -DPLUME_BUILD_BENCH=ON >/dev/null
   cmake --build "$dir" -j "$(nproc 2>/dev/null || echo 2)" >/dev/null
-  # The peers are measured once, in the widest build; the other builds run plume only.
-  filter=.
-  [ "$v" = "$widest" ] || filter=/plume/
-  for b in "$dir"/bench/plume_bench_*; do
-    [ -x "$b" ] || continue
-    json="$out/$v.$(basename "$b").json"
-    echo "plume: running $v/$(basename "$b")"
-    "$b" --benchmark_filter="$filter" --benchmark_repetitions="${PLUME_REPORT_REPS:-5}" \
-      --benchmark_report_aggregates_only=true --benchmark_min_time="${PLUME_REPORT_MIN_TIME:-0.1}" \
-      --benchmark_out="$json" --benchmark_out_format=json >/dev/null
-    args+=("$v=$json")
+done
+rounds=${PLUME_REPORT_ROUNDS:-5}
+for ((r = 1; r <= rounds; r++)); do
+  echo "plume: round $r of $rounds"
+  for bin in build/report-"$widest"/bench/plume_bench_*; do
+    [ -x "$bin" ] || continue
+    name=$(basename "$bin")
+    for v in "${variants[@]}"; do
+      b=build/report-$v/bench/$name
+      [ -x "$b" ] || continue
+      # The peers are measured in the widest build only; the other builds run plume only.
+      filter=.
+      [ "$v" = "$widest" ] || filter=/plume/
+      json="$out/$v.$name.r$r.json"
+      "$b" --benchmark_filter="$filter" --benchmark_repetitions="${PLUME_REPORT_REPS:-1}" \
+        --benchmark_report_aggregates_only=true --benchmark_min_time="${PLUME_REPORT_MIN_TIME:-0.1}" \
+        --benchmark_out="$json" --benchmark_out_format=json >/dev/null
+      args+=("$v=$json")
+    done
   done
 done
 py=python3
