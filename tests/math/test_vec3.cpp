@@ -3,6 +3,8 @@
 #include "math_support.hpp"
 
 #include <plume/math/bvec3.hpp>
+#include <plume/math/mat3.hpp>
+#include <plume/math/quat.hpp>
 #include <plume/math/vec3.hpp>
 
 using namespace plume;
@@ -232,3 +234,44 @@ TEMPLATE_LIST_TEST_CASE("every vec3 method is lane-exact", "[math][vec3][lanes]"
 #undef V3
 }
 #endif
+
+namespace {
+template <class V>
+std::string printed(V const& v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+} // namespace
+
+// Debug printing: scalars in a fixed form, wide values with every lane, in lane order, each
+// printed as its scalar value is.
+TEMPLATE_LIST_TEST_CASE("operator<< prints every lane", "[math][print]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  GVec3<T> v;
+  GQuat<T> q;
+  for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+    S const k = S(i);
+    v = with_lane(v, i, GVec3<S>{k, S(2.5) * k, -k - S(1)});
+    q = with_lane(q, i, GQuat<S>{k, S(0), S(-0.5), S(1)});
+  }
+  GMat3<T> const m = GMat3<T>::from_diagonal(v);
+  if constexpr (!is_batch_v<T>) {
+    CHECK(printed(v) == "(0, 0, -1)");
+    CHECK(printed(q) == "quat(0, 0, -0.5, 1)");
+    CHECK(printed(m) == "[x: (0, 0, 0), y: (0, 0, 0), z: (0, 0, -1)]");
+  } else {
+    std::string want_v = "[", want_q = "[";
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      want_v += (i ? ", " : "") + printed(lane(v, i));
+      want_q += (i ? ", " : "") + printed(lane(q, i));
+    }
+    CHECK(printed(v) == want_v + "]");
+    CHECK(printed(q) == want_q + "]");
+    CHECK(printed(m) == "[x: " + printed(m.x_axis) + ", y: " + printed(m.y_axis) +
+                            ", z: " + printed(m.z_axis) + "]");
+    // The last lane is there: its x is lanes - 1.
+    CHECK(printed(v).find("(" + printed(S(lanes_v<T> - 1)) + ", ") != std::string::npos);
+  }
+}
