@@ -276,6 +276,15 @@ TEST_CASE("ray casts: inside, surface, parallel, zero and non-finite input", "[c
     auto const far = ray_cast_local(box, Ray3{{0, -12, 0}, {0, 2e-38f, 0}}, inf);
     CHECK_FALSE(far.hit);
     CHECK(far.toi == inf);
+    // The same for the solid sphere's and capsule's entry root c / q: from 2e19 away with
+    // |d| = 5e-20, c = 4e38 overflows (the entry, 4e38, is past FLT_MAX): a miss. From 1e19
+    // with |d| = 1e-19 the entry 1e38 is finite and hits.
+    for (Vec3 axis : {Vec3{1, 0, 0}, Vec3{0, 1, 0}}) {
+      CHECK_FALSE(ray_cast_local(s, Ray3{axis * 2e19f, axis * -5e-20f}, inf).hit);
+      CHECK_FALSE(ray_cast_local(Capsule{0.5f, 1}, Ray3{axis * 2e19f, axis * -5e-20f}, inf).hit);
+      CHECK(ray_cast_local(Sphere{1}, Ray3{axis * 1e19f, axis * -1e-19f}, inf).hit);
+      CHECK(ray_cast_local(Capsule{0.5f, 1}, Ray3{axis * 1e19f, axis * -1e-19f}, inf).hit);
+    }
   }
   SECTION("zero direction: only a solid shape around the origin") {
     CHECK(ray_cast_local(s, Ray3{{0, 0, 0}, {0, 0, 0}}, inf).hit);
