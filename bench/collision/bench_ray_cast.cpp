@@ -6,7 +6,8 @@
 // Shapes are given by a centre (sphere, capsule, cylinder: the ray is moved into the shape
 // frame by a subtraction), a world box (AABB, stored as its min and max corners), a full pose
 // (oriented box: a quaternion rotation per ray), or world vertices (triangle: the corners of
-// the box's axes around the centre). The per-ray lambdas are forced inline
+// the box's axes around the centre). Each cast's whole hit is stored to an array, at every
+// width. The per-ray lambdas are forced inline
 // (PLUME_BENCH_INLINE): g++ otherwise may keep one out of line, and the timed loop then
 // measures a call and a result passed through memory.
 #include <plume/collision.hpp>
@@ -96,21 +97,25 @@ void register_width() {
     auto const run = [cast](benchmark::State& st, auto one_ray) {
       packed<T> const p;
       V const o0(data().o[0]), d0(data().d[0]);
+      // Every width stores the whole hit (mask, toi, normal, feature) of every cast, so that
+      // each does the same work. (DoNotOptimize(hit.toi) alone would keep a scalar toi in a
+      // register and let the compiler drop the scalar normal as dead code, while a wide toi
+      // goes through memory and takes the whole hit with it: the widths would time
+      // different work.)
+      std::vector<plume::GRayHit<T>> out(p.o.size());
       plume::bench::run_items(st, N, [&] {
         if constexpr (decltype(one_ray)::value) {
-          // Copies local to the loop: DoNotOptimize's memory clobber would otherwise make the
-          // compiler reload o0 and d0 (captured by reference) and redo 1/d on every cast.
+          // Copies local to the loop: a shared o0 and d0 could alias the output, and the
+          // compiler would reload them and redo 1/d on every cast.
           V const o = o0, d = d0;
-          for (std::size_t i = 0; i < p.o.size(); ++i) {
-            auto const hit = cast(p, i, o, d);
-            benchmark::DoNotOptimize(hit.toi);
-          }
+          for (std::size_t i = 0; i < p.o.size(); ++i)
+            out[i] = cast(p, i, o, d);
         } else {
-          for (std::size_t i = 0; i < p.o.size(); ++i) {
-            auto const hit = cast(p, i, p.o[i], p.d[i]);
-            benchmark::DoNotOptimize(hit.toi);
-          }
+          for (std::size_t i = 0; i < p.o.size(); ++i)
+            out[i] = cast(p, i, p.o[i], p.d[i]);
         }
+        benchmark::DoNotOptimize(out.data());
+        benchmark::ClobberMemory();
       });
     };
     benchmark::RegisterBenchmark((std::string("ray_") + name + w).c_str(),
