@@ -388,6 +388,84 @@ TEST_CASE("ray casts: inside, surface, parallel, zero and non-finite input", "[c
   }
 }
 
+TEMPLATE_TEST_CASE("a ray with any non-finite component misses, from inside too",
+                   "[collision][ray]", float, double) {
+  // Every arrangement of +-inf and NaN among the six components, next to zero, small and
+  // large finite ones, with the origin also inside or on each shape: a miss with toi
+  // +infinity, solid or hollow. The solid sphere and capsule casts do not test the ray's
+  // validity as a whole; they rely on the entry roots failing for non-finite input and test
+  // only the direction of an origin inside, so a gap in that argument shows here.
+  using S = TestType;
+  using V = GVec3<S>;
+  S const inf = std::numeric_limits<S>::infinity(), nan = std::numeric_limits<S>::quiet_NaN();
+  S const o_vals[] = {S(0), S(0.25), S(-0.5), S(3), S(-1e30), inf, -inf, nan};
+  S const d_vals[] = {S(0), S(1), S(-0.5), S(1e-30), inf, -inf, nan};
+  auto const finite = [](V const& v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+  };
+  int checked = 0, failures = 0;
+  auto const expect_miss = [&](char const* name, GRayHit<S> const& h, V const& o, V const& d,
+                               bool solid) {
+    ++checked;
+    if ((h.hit || !(h.toi == inf)) && failures++ < 8)
+      FAIL_CHECK(name << (solid ? " solid" : " hollow") << " o " << o << " d " << d << " hit "
+                      << h.hit << " toi " << h.toi);
+  };
+  for (S ox : o_vals)
+    for (S oy : o_vals)
+      for (S oz : o_vals)
+        for (S dx : d_vals)
+          for (S dy : d_vals)
+            for (S dz : d_vals) {
+              V const o{ox, oy, oz}, d{dx, dy, dz};
+              if (finite(o) && finite(d)) continue;
+              GRay3<S> const ray{o, d};
+              for (bool solid : {true, false}) {
+                expect_miss("sphere", ray_cast_local(GSphere<S>{S(1)}, ray, inf, solid), o, d,
+                            solid);
+                expect_miss("capsule", ray_cast_local(GCapsule<S>{S(0.5), S(1)}, ray, inf, solid),
+                            o, d, solid);
+                expect_miss("cylinder", ray_cast_local(GCylinder<S>{S(0.5), S(1)}, ray, inf, solid),
+                            o, d, solid);
+                expect_miss("cuboid", ray_cast_local(GCuboid<S>{V{1, 2, 3}}, ray, inf, solid), o, d,
+                            solid);
+                expect_miss("half-space",
+                            ray_cast_local(GHalfSpace<S>{V{0, 1, 0}}, ray, inf, solid), o, d,
+                            solid);
+                expect_miss("aabb", ray_cast(GAabb3<S>{V{-1, -1, -1}, V{1, 1, 1}}, ray, inf, solid),
+                            o, d, solid);
+              }
+            }
+  CHECK(failures == 0);
+  CHECK(checked > 100000);
+  // The same rays with a finite origin inside and on each shape, so that only the direction
+  // is not finite (the solid casts' inside path).
+  for (V const o : {V{0, 0, 0}, V{0.25, -0.5, 0.25}, V{1, 0, 0}, V{0, 1.5, 0}})
+    for (S dx : d_vals)
+      for (S dy : d_vals)
+        for (S dz : d_vals) {
+          V const d{dx, dy, dz};
+          if (finite(d)) continue;
+          GRay3<S> const ray{o, d};
+          for (bool solid : {true, false}) {
+            expect_miss("sphere (inside)", ray_cast_local(GSphere<S>{S(1)}, ray, inf, solid), o, d,
+                        solid);
+            expect_miss("capsule (inside)",
+                        ray_cast_local(GCapsule<S>{S(0.5), S(1)}, ray, inf, solid), o, d, solid);
+            expect_miss("cylinder (inside)",
+                        ray_cast_local(GCylinder<S>{S(0.5), S(1)}, ray, inf, solid), o, d, solid);
+            expect_miss("cuboid (inside)", ray_cast_local(GCuboid<S>{V{1, 2, 3}}, ray, inf, solid),
+                        o, d, solid);
+          }
+        }
+  CHECK(failures == 0);
+  // And the finite direction from inside still hits at 0 (the toi that carries the test).
+  for (V const o : {V{0, 0, 0}, V{0.25, -0.5, 0.25}, V{1, 0, 0}}) {
+    CHECK(ray_cast_local(GSphere<S>{S(1)}, GRay3<S>{o, V{1, S(-1e-30), 3}}, inf).toi == S(0));
+    CHECK(ray_cast_local(GCapsule<S>{S(0.5), S(1)}, GRay3<S>{o, V{0, 0, 0}}, inf).toi == S(0));
+  }
+}
+
 TEST_CASE("far spheres: the robust discriminant classifies rays like long double",
           "[collision][ray]") {
   // r / |f| = 1e-3: rays aimed within a few radii of a sphere 1000 radii away.

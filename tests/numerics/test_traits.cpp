@@ -139,6 +139,28 @@ TEMPLATE_LIST_TEST_CASE("select picks per lane, also with one mask feeding two s
   }
 }
 
+TEMPLATE_LIST_TEST_CASE("and_not is m & !n on every lane", "[numerics][mask]", test::real_types) {
+  // One ANDN of the mask bits (a k-register on AVX-512): an operand order swapped in either
+  // form gives !m & n, which differs from m & !n in the lanes where exactly one is set.
+  using T = TestType;
+  using S = scalar_t<T>;
+  constexpr std::size_t L = lanes_v<T>;
+  for (std::uint64_t pm : {0x0ull, 0x5555ull, 0x3333ull, 0xFFFFull, 0x1ull, 0x8000ull}) {
+    for (std::uint64_t pn : {0x0ull, 0x0F0Full, 0x3333ull, 0xFFFFull, 0x2ull}) {
+      T bm = zero<T>(), bn = zero<T>();
+      for (std::size_t i = 0; i < L; ++i) {
+        bm = with_lane(bm, i, S((pm >> i) & 1u));
+        bn = with_lane(bn, i, S((pn >> i) & 1u));
+      }
+      mask_t<T> const m = bm > S(0.5), n = bn > S(0.5);
+      std::uint64_t const lanes = L == 64 ? ~0ull : (1ull << L) - 1;
+      INFO("m " << pm << " n " << pn);
+      CHECK(plume::bitmask(plume::and_not(m, n)) == ((pm & ~pn) & lanes));
+      CHECK(plume::bitmask(plume::and_not(m, n)) == plume::bitmask(m & !n));
+    }
+  }
+}
+
 TEMPLATE_LIST_TEST_CASE("keep_if and select_sign pick per lane", "[numerics][mask]",
                         test::real_types) {
   // keep_if is an AND with the mask on SSE/AVX, select_sign a blend on the sign bit under

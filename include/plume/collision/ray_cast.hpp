@@ -16,7 +16,8 @@
 //    normal there (pointing along the ray).
 //  - Miss: hit false, toi = +infinity, normal zero. A zero direction hits only a solid shape
 //    its origin is inside (toi = 0). A non-finite origin or direction, or a NaN max_toi, is
-//    a miss in that lane only.
+//    a miss in that lane only. Shape sizes are finite and >= 0; an infinite or NaN size
+//    gives an unspecified hit (no trap, no hang, other lanes untouched).
 //  - Robust forms (notes/collision.md): the sphere and cylinder discriminants are computed
 //    as a (r^2 - |f - (b/a) d|^2) = a r^2 - |f x d|^2, without the cancellation of b^2 - a c
 //    for small or far shapes, and the roots as c/q and q/a with q = -(b + sign(b) sqrt(disc))
@@ -119,10 +120,17 @@ PLUME_INLINE ray_interval<T> quadric_roots(GVec3<T> f, GVec3<T> d, T r) noexcept
 /// of -b, so the set lies ahead exactly where b < 0 and disc >= 0, and the entry is c / q
 /// with q = sqrt(disc) - b > 0 (one division, one rounding after c and q). ok is false from
 /// inside or on the surface (c <= 0), for a zero direction (a = 0) and for NaN input.
+///
+/// ok also implies a finite f and d: an infinite or NaN component makes c, b or a NaN, or
+/// the cross product's square infinite or NaN and so disc -inf or NaN (inf * 0 and
+/// inf - inf included), in every arrangement; callers need not test the ray's validity
+/// where they take this entry. `ahead` is ok without disc >= 0: where disc < 0 (or NaN) t
+/// is NaN, which fails every comparison, so a caller that rejects a NaN t can use it and
+/// save the test.
 template <Real T>
 struct entry_root {
-  mask_t<T> ok;
-  T t; ///< meaningful where ok
+  mask_t<T> ok, ahead;
+  T t; ///< meaningful where ok; NaN where ahead and not ok
 };
 template <bool Flat, Real T>
 PLUME_INLINE entry_root<T> quadric_entry(GVec3<T> const& f, GVec3<T> const& d, T r) noexcept {
@@ -140,8 +148,9 @@ PLUME_INLINE entry_root<T> quadric_entry(GVec3<T> const& f, GVec3<T> const& d, T
     c = f.dot(f) - r2;
     disc = a * r2 - f.cross(d).length_squared();
   }
-  mask_t<T> const ok = (((c > z) & (b < z)) & (disc >= z)) & (a > z);
-  return {ok, c / (plume::sqrt(disc) - b)};
+  mask_t<T> const ahead = ((c > z) & (b < z)) & (a > z);
+  mask_t<T> const ok = ahead & (disc >= z);
+  return {ok, ahead, c / (plume::sqrt(disc) - b)};
 }
 
 /// One axis of a slab test lo <= o + t d <= hi: the offsets of the planes from the origin and
@@ -225,13 +234,13 @@ PLUME_INLINE GVec3<T> keep_where(mask_t<T> m, GVec3<T> const& v) noexcept {
 template <Real T>
 PLUME_INLINE GRayHit<T> with_normal(pre_hit<T> const& h, GVec3<T> const& n,
                                     T feature = zero<T>()) noexcept {
-  mask_t<T> const surface = h.hit & !h.bare;
+  mask_t<T> const surface = plume::and_not(h.hit, h.bare);
   return {h.hit, h.toi, keep_where(surface, n), plume::select(surface, feature, -one<T>())};
 }
 template <Real T>
 PLUME_INLINE GRayHit<T> with_normal(pre_hit<T> const& h, GVec3<T> const& n, T feature,
                                     mask_t<T> has_normal) noexcept {
-  mask_t<T> const surface = h.hit & !h.bare;
+  mask_t<T> const surface = plume::and_not(h.hit, h.bare);
   return {h.hit, h.toi, keep_where(surface & has_normal, n),
           plume::select(surface, feature, -one<T>())};
 }
@@ -244,6 +253,14 @@ PLUME_INLINE mask_t<T> ray_valid(GRay3<T> const& ray) noexcept {
   GVec3<T> const& o = ray.origin;
   GVec3<T> const& d = ray.dir;
   return ((o.x - o.x) + (o.y - o.y)) + (o.z - o.z) == ((d.x - d.x) + (d.y - d.y)) + (d.z - d.z);
+}
+
+/// +0 where d is finite, NaN where it is not: (x - x) summed over the components. Solid
+/// casts from inside take it as their toi, which then fails toi <= max_toi for a non-finite
+/// direction (an origin inside a finite shape is finite itself).
+template <Real T>
+PLUME_INLINE T zero_if_finite(GVec3<T> const& d) noexcept {
+  return ((d.x - d.x) + (d.y - d.y)) + (d.z - d.z);
 }
 
 /// Sphere of radius r at f's origin: f is the ray origin relative to the centre.
@@ -268,19 +285,23 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray,
   if (solid) {
     T const z = zero<T>();
     auto const e = detail::quadric_entry<false>(ray.origin, ray.dir, s.radius);
-    T const toi = plume::select(inside, z, e.t);
-    // An entry at +infinity is a miss and a NaN max_toi misses (min_select keeps it), as for
-    // boxes.
-    h.hit = (detail::ray_valid(ray) & (inside | e.ok)) &
-            (toi <= plume::min_select(max_value<T>(), max_toi));
+    // Validity without ray_valid's eleven operations: an entry implies a finite ray (see
+    // quadric_entry), and an origin inside a finite radius is finite, so only the direction
+    // of the inside lanes is left: their toi is +0, or NaN for a non-finite direction. The
+    // toi <= limit test rejects that NaN, a NaN entry (disc < 0, hence e.ahead, not e.ok),
+    // an entry at +infinity, and every toi for a NaN max_toi (min_select keeps it).
+    T const toi = plume::select(inside, detail::zero_if_finite(ray.dir), e.t);
+    h.hit = (inside | e.ahead) & (toi <= plume::min_select(max_value<T>(), max_toi));
     h.toi = plume::select(h.hit, toi, infinity<T>());
     h.leaving = z < z;
     h.bare = inside;
-  } else {
-    auto const iv = detail::sphere_part(ray.origin, ray.dir, s.radius);
-    h = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, false);
+    // The normal p / r with one division (from toi, which h.toi equals wherever the normal
+    // is kept: not after the hit test); a zero radius has no normal.
+    T const inv_r = one<T>() / s.radius;
+    return detail::with_normal(h, ray.at(toi) * inv_r, z, s.radius > z);
   }
-  // The normal p / r with one division; a zero radius has no normal.
+  auto const iv = detail::sphere_part(ray.origin, ray.dir, s.radius);
+  h = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, false);
   T const inv_r = one<T>() / s.radius;
   return detail::with_normal(h, ray.at(h.toi) * inv_r, zero<T>(), s.radius > zero<T>());
 }
@@ -404,9 +425,13 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& r
     T const t_side = plume::select(side.ok & (plume::abs(o.y + d.y * side.t) <= h), side.t, inf);
     T const t_ends =
         detail::min_of(plume::select(top.ok, top.t, inf), plume::select(bottom.ok, bottom.t, inf));
-    // No entry leaves +infinity, a miss; so is an entry at +infinity and a NaN max_toi.
-    T const toi = plume::select(inside, z, detail::min_of(t_side, t_ends));
-    hit.hit = detail::ray_valid(ray) & (toi <= plume::min_select(max_value<T>(), max_toi));
+    // No entry leaves +infinity, a miss; so is an entry at +infinity and a NaN max_toi. An
+    // end sphere's entry implies a finite ray (quadric_entry), and so does the side's where
+    // its height passes the test (the side's roots see only x and z, but a non-finite o.y or
+    // d.y makes that height infinite or NaN); so, as for spheres, only the direction of the
+    // inside lanes is left to test: their toi is NaN for a non-finite one.
+    T const toi = plume::select(inside, detail::zero_if_finite(d), detail::min_of(t_side, t_ends));
+    hit.hit = toi <= plume::min_select(max_value<T>(), max_toi);
     hit.toi = plume::select(hit.hit, toi, inf);
     hit.leaving = z < z;
     hit.bare = inside;

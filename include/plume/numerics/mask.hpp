@@ -7,6 +7,8 @@
 //   select(m, a, b)   per lane: m ? a : b    (a or b may be a scalar_t<T> for a batch T)
 //   keep_if(m, a)     per lane: m ? a : 0    (select(m, a, 0): one AND where masks are
 //                                             float vectors, SSE/AVX)
+//   and_not(m, n)     per lane: m && !n      (one ANDN; `m & !n` costs a compare more on
+//                                             SSE/AVX, where g++ forms !n as n == 0)
 //   any(m), all(m), none(m)                   horizontal tests
 //   bitmask(m)        lane i of m in bit i of a uint64_t
 //   mask_cast<T>(m)   a mask of another element type with the same lanes and lane width
@@ -38,6 +40,8 @@ template <class T>
 requires(is_element_v<T> && !is_batch_v<T>) PLUME_INLINE constexpr T keep_if(bool m, T a) noexcept {
   return m ? a : T(0);
 }
+
+PLUME_INLINE constexpr bool and_not(bool m, bool n) noexcept { return m && !n; }
 
 template <class T>
 requires(is_element_v<T> && !is_batch_v<T>) PLUME_INLINE constexpr bool mask_cast(bool m) noexcept {
@@ -139,6 +143,18 @@ PLUME_INLINE xsimd::batch<E, A> keep_if(xsimd::batch_bool<E, A> const& m,
     return xsimd::batch<E, A>(std::bit_cast<R>(m.data)) & a;
   else
     return xsimd::select(m, a, xsimd::batch<E, A>(E(0)));
+}
+
+/// m & !n: one ANDN of the lanes' bits. xsimd 8.1's bitwise_andnot(a, b) computes ~a & b on
+/// SSE/AVX masks (vectors) but a & ~b on AVX-512 masks (k-registers); both are used here in
+/// the order that gives m & !n.
+template <class E, class A>
+PLUME_INLINE xsimd::batch_bool<E, A> and_not(xsimd::batch_bool<E, A> const& m,
+                                             xsimd::batch_bool<E, A> const& n) noexcept {
+  if constexpr (sizeof(m.data) < 16) // a k-register: at most 64 bits
+    return xsimd::bitwise_andnot(m, n);
+  else
+    return xsimd::bitwise_andnot(n, m);
 }
 
 /// The mask m (of any element type of T's lanes and lane width) as a mask of T.
