@@ -10,6 +10,8 @@
 #include <plume/numerics/simd.hpp>
 #include <plume/numerics/traits.hpp>
 
+#include <random>
+
 using namespace plume;
 
 // Which types satisfy which concept (the table of DESIGN.md).
@@ -227,6 +229,46 @@ TEMPLATE_LIST_TEST_CASE("integer element types", "[numerics][int]", test::int_ty
     CHECK(lane(plume::abs(splat<T>(-4)), 0) == S(4));
     CHECK(lane(plume::signum(splat<T>(-4)), 0) == S(-1));
     CHECK(lane(plume::signum(zero<T>()), 0) == S(0));
+  }
+}
+
+TEMPLATE_LIST_TEST_CASE("reductions in registers give the scalar tree's bits", "[numerics][reduce]",
+                        test::real_types) {
+  // The wide reductions shift the upper half of the lanes onto the lower half in registers
+  // (numerics/reduce.hpp); a wrong shift count or block order pairs other lanes, which shows
+  // in the sum's bits and, with signed zeros and infinities placed per lane, in min and max.
+  using T = TestType;
+  using S = scalar_t<T>;
+  S const inf = std::numeric_limits<S>::infinity();
+  S const specials[] = {S(0), -S(0), inf, -inf, S(1e-40), S(-3), S(2.5), S(1e30)};
+  std::mt19937 g(17);
+  std::uniform_real_distribution<S> u(S(-1e6), S(1e6));
+  for (int k = 0; k < 400; ++k) {
+    T x = zero<T>();
+    for (std::size_t i = 0; i < lanes_v<T>; ++i)
+      x = with_lane(x, i, (k + int(i)) % 3 == 0 ? specials[(std::size_t(k) * 7 + i) % 8] : u(g));
+    auto v = to_array(x);
+    auto tree = [&](auto op) {
+      auto a = v;
+      for (std::size_t n = a.size() / 2; n >= 1; n /= 2)
+        for (std::size_t i = 0; i < n; ++i)
+          a[i] = op(a[i], a[i + n]);
+      return a[0];
+    };
+    S const sum = tree([](S a, S b) { return S(a + b); });
+    S const lo = tree([](S a, S b) { return plume::min(a, b); });
+    S const hi = tree([](S a, S b) { return plume::max(a, b); });
+    INFO("case " << k << " x " << x);
+    CHECK(test::same_bits(plume::reduce_add(x), sum));
+    CHECK(test::same_bits(plume::reduce_min(x), lo));
+    CHECK(test::same_bits(plume::reduce_max(x), hi));
+  }
+  // A NaN in any lane makes min and max NaN.
+  for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+    T const x = with_lane(splat<T>(S(2)), i, std::numeric_limits<S>::quiet_NaN());
+    CHECK(std::isnan(plume::reduce_min(x)));
+    CHECK(std::isnan(plume::reduce_max(x)));
+    CHECK(std::isnan(plume::reduce_add(x)));
   }
 }
 
