@@ -139,7 +139,11 @@ void check_against_oracle(char const* name, Shape const& shape, Oracle oracle, G
 
 TEST_CASE("ray casts agree with long-double oracles", "[collision][ray]") {
   // Grazing: the oracle's discriminant is within a relative 1e-4 of zero, or the hit is on a
-  // seam the float and long-double answers may see on either side.
+  // seam the float and long-double answers may see on either side. Tolerances on the hit
+  // distance relative to 1 + distance, about three times the worst error seen on these
+  // 20,000 rays (measured: sphere 2.7, cuboid 0.65, capsule 7.6, cylinder 7.2 FLT_EPSILON;
+  // the capsule and cylinder solve a quadric in xz, then test heights).
+  double const eps = std::numeric_limits<float>::epsilon();
   check_against_oracle(
       "sphere", Sphere{1.25f},
       [](ld3 o, ld3 d) {
@@ -149,7 +153,7 @@ TEST_CASE("ray casts agree with long-double oracles", "[collision][ray]") {
         LD const a = dot(d, d), b = dot(o, d), c = dot(o, o) - 1.25L * 1.25L;
         return std::abs(b * b - a * c) <= 1e-4L * (b * b + std::abs(a * c)) || std::abs(c) < 1e-5L;
       },
-      2e-5);
+      8 * eps);
   Vec3 const e{1.5f, 0.5f, 1};
   check_against_oracle(
       "cuboid", Cuboid{e}, [&](ld3 o, ld3 d) { return box_oracle(o, d, ld(e)); },
@@ -160,7 +164,7 @@ TEST_CASE("ray casts agree with long-double oracles", "[collision][ray]") {
         return t.has_value() != u.has_value() ||
                (std::abs(o.x) - e.x) * (std::abs(o.x) - e.x) < 1e-10L;
       },
-      2e-5);
+      2 * eps);
   check_against_oracle(
       "capsule", Capsule{0.75f, 0.5f},
       [](ld3 o, ld3 d) { return capsule_oracle(o, d, 0.75L, 0.5L); },
@@ -169,7 +173,7 @@ TEST_CASE("ray casts agree with long-double oracles", "[collision][ray]") {
         auto const u = capsule_oracle(o, d, 0.75L, 0.5L * (1 - 1e-5L));
         return t.has_value() != u.has_value();
       },
-      2e-5);
+      24 * eps);
   check_against_oracle(
       "cylinder", Cylinder{0.75f, 0.5f},
       [](ld3 o, ld3 d) { return cylinder_oracle(o, d, 0.75L, 0.5L); },
@@ -178,7 +182,7 @@ TEST_CASE("ray casts agree with long-double oracles", "[collision][ray]") {
         auto const u = cylinder_oracle(o, d, 0.75L * (1 - 1e-5L), 0.5L * (1 - 1e-5L));
         return t.has_value() != u.has_value();
       },
-      2e-5);
+      24 * eps);
 }
 
 TEST_CASE("ray casts: inside, surface, parallel, zero and non-finite input", "[collision][ray]") {
