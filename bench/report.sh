@@ -9,10 +9,10 @@
 #   across builds      plume's scalar build (x1) against each wide build at its widest width
 #   within one build   the widest build: every width and the peers (std, Eigen, SLEEF, xsimd)
 #                      with ratios to x1 measured in the same run
-# Each figure is the median over the rounds. A round runs each benchmark binary in every build
-# one after the other, so the builds compared across are measured seconds apart, and a slow
-# phase of a shared machine (its clock drifts by 20-40% for minutes) falls on all of them
-# rather than on the one build that happened to run then.
+# Each figure is the fastest of the rounds (bench/report.py says why). A round runs each
+# benchmark binary in every build one after the other, so the builds compared across are
+# measured seconds apart, and a slow phase of a shared machine (its clock drifts by 20-40%
+# for minutes) falls on all of them rather than on the one build that happened to run then.
 # Output: build/report/width_report.md, width_report.png (chart) and the raw JSON.
 # PLUME_REPORT_ROUNDS (default 5), PLUME_REPORT_REPS (repetitions per round, default 1) and
 # PLUME_REPORT_MIN_TIME (seconds, default 0.1) tune the run.
