@@ -245,22 +245,20 @@ PLUME_INLINE GRayHit<T> with_normal(pre_hit<T> const& h, GVec3<T> const& n, T fe
           plume::select(surface, feature, -one<T>())};
 }
 
-/// Finite origin and direction: x - x is 0 for finite x and NaN otherwise, so the sums for
-/// the origin and the direction are equal (both 0) exactly when all six are finite. (A NaN
-/// max_toi needs no test: every hit requires toi <= max_toi, which is false for NaN.)
-template <Real T>
-PLUME_INLINE mask_t<T> ray_valid(GRay3<T> const& ray) noexcept {
-  GVec3<T> const& o = ray.origin;
-  GVec3<T> const& d = ray.dir;
-  return ((o.x - o.x) + (o.y - o.y)) + (o.z - o.z) == ((d.x - d.x) + (d.y - d.y)) + (d.z - d.z);
-}
-
 /// +0 where d is finite, NaN where it is not: (x - x) summed over the components. Solid
 /// casts from inside take it as their toi, which then fails toi <= max_toi for a non-finite
 /// direction (an origin inside a finite shape is finite itself).
 template <Real T>
 PLUME_INLINE T zero_if_finite(GVec3<T> const& d) noexcept {
   return ((d.x - d.x) + (d.y - d.y)) + (d.z - d.z);
+}
+
+/// Finite origin and direction: x - x is 0 for finite x and NaN otherwise, so the sums for
+/// the origin and the direction are equal (both 0) exactly when all six are finite. (A NaN
+/// max_toi needs no test: every hit requires toi <= max_toi, which is false for NaN.)
+template <Real T>
+PLUME_INLINE mask_t<T> ray_valid(GRay3<T> const& ray) noexcept {
+  return zero_if_finite(ray.origin) == zero_if_finite(ray.dir);
 }
 
 /// Sphere of radius r at f's origin: f is the ray origin relative to the centre.
@@ -282,6 +280,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray,
   T const r2 = s.radius * s.radius;
   auto const inside = ray.origin.length_squared() <= r2;
   detail::pre_hit<T> h;
+  T t_normal;
   if (solid) {
     T const z = zero<T>();
     auto const e = detail::quadric_entry<false>(ray.origin, ray.dir, s.radius);
@@ -295,15 +294,17 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray,
     h.toi = plume::select(h.hit, toi, infinity<T>());
     h.leaving = z < z;
     h.bare = inside;
-    // The normal p / r with one division (from toi, which h.toi equals wherever the normal
-    // is kept: not after the hit test); a zero radius has no normal.
-    T const inv_r = one<T>() / s.radius;
-    return detail::with_normal(h, ray.at(toi) * inv_r, z, s.radius > z);
+    // The normal below is taken at toi, which h.toi equals wherever the normal is kept: it
+    // need not wait for the hit test.
+    t_normal = toi;
+  } else {
+    auto const iv = detail::sphere_part(ray.origin, ray.dir, s.radius);
+    h = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, false);
+    t_normal = h.toi;
   }
-  auto const iv = detail::sphere_part(ray.origin, ray.dir, s.radius);
-  h = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, false);
+  // The normal p / r with one division; a zero radius has no normal.
   T const inv_r = one<T>() / s.radius;
-  return detail::with_normal(h, ray.at(h.toi) * inv_r, zero<T>(), s.radius > zero<T>());
+  return detail::with_normal(h, ray.at(t_normal) * inv_r, zero<T>(), s.radius > zero<T>());
 }
 
 namespace detail {

@@ -5,14 +5,12 @@
 //                   ((x0+x4) + (x2+x6)) + ((x1+x5) + (x3+x7)). Same order in every build.
 //   reduce_min(x), reduce_max(x)   with min/max's NaN rule (any NaN lane gives NaN); the
 //                   order does not change the result.
-// For a scalar each returns x itself. Batches of 16, 32 and 64 bytes reduce in registers
-// (one shift or shuffle and one vector op per halving: 4 steps for 16 lanes), other
-// batches through an array; both give the same bits.
+// For a scalar each returns x itself. Batches reduce in registers: one shift or shuffle and
+// one vector op per halving (4 steps for 16 lanes).
 #pragma once
 
 #include <plume/numerics/functions.hpp>
 
-#include <array>
 #include <bit>
 #include <cstddef>
 #include <utility>
@@ -46,67 +44,47 @@ PLUME_INLINE R bytes_down(R r) noexcept {
   }
 #endif
 }
-/// Batches whose halving tree runs in registers (bytes_down covers their size).
-template <class T>
-inline constexpr bool halvable_v = sizeof(T) == 16 || (PLUME_HAS_AVX2 && sizeof(T) == 32) ||
-                                   (PLUME_HAS_AVX512 && sizeof(T) == 64);
 #endif
 
 /// The reduction tree of the header: lane i + n is combined onto lane i for n = lanes / 2,
-/// lanes / 4, ..., 1, and lane 0 is the result. With batches of 16, 32 or 64 bytes each
-/// level is one shift or shuffle and one lane-wise op (vop, whose lanes give sop's result),
-/// so the answer is the scalar tree's, bit for bit (where it is a NaN, which NaN may
-/// differ: min and max give a NaN of either sign); other batches run the scalar tree.
-template <class T, class VOp, class SOp>
-PLUME_INLINE scalar_t<T> reduce_halves(T const& x, VOp vop, SOp sop) noexcept {
+/// lanes / 4, ..., 1, and lane 0 is the result. Each level is one shift or shuffle
+/// (bytes_down) and op on whole batches, whose lanes are op's scalar results, so the answer
+/// is the scalar tree's bit for bit (where it is a NaN, which NaN may differ: min and max
+/// give a NaN of either sign). Every batch plume has is 16, 32 or 64 bytes.
+template <class T, class Op>
+PLUME_INLINE scalar_t<T> reduce_halves(T const& x, Op op) noexcept {
   if constexpr (!is_batch_v<T>) {
-    (void)vop, (void)sop;
+    (void)op;
     return x;
   } else {
 #if PLUME_HAS_BATCHES
-    if constexpr (halvable_v<T>) {
-      (void)sop;
-      using R = typename T::register_type;
-      constexpr std::size_t lane_bytes = sizeof(scalar_t<T>);
-      T v = x;
-      [&]<std::size_t... K>(std::index_sequence<K...>) {
-        ((v = vop(v, T(bytes_down<(lanes_v<T> >> (K + 1)) * lane_bytes>(R(v))))), ...);
-      }
-      (std::make_index_sequence<std::bit_width(lanes_v<T>) - 1>{});
-      return plume::lane(v, 0);
-    } else
-#endif
-    {
-      (void)vop;
-      auto a = plume::to_array(x);
-      for (std::size_t n = lanes_v<T> / 2; n >= 1; n /= 2)
-        for (std::size_t i = 0; i < n; ++i)
-          a[i] = sop(a[i], a[i + n]);
-      return a[0];
+    static_assert(sizeof(T) == 16 || sizeof(T) == 32 || sizeof(T) == 64);
+    using R = typename T::register_type;
+    constexpr std::size_t lane_bytes = sizeof(scalar_t<T>);
+    T v = x;
+    [&]<std::size_t... K>(std::index_sequence<K...>) {
+      ((v = op(v, T(bytes_down<(lanes_v<T> >> (K + 1)) * lane_bytes>(R(v))))), ...);
     }
+    (std::make_index_sequence<std::bit_width(lanes_v<T>) - 1>{});
+    return plume::lane(v, 0);
+#endif
   }
 }
 } // namespace detail
 
 template <Num T>
 PLUME_INLINE scalar_t<T> reduce_add(T const& x) noexcept {
-  return detail::reduce_halves(
-      x, [](T const& a, T const& b) { return T(a + b); },
-      [](scalar_t<T> a, scalar_t<T> b) { return scalar_t<T>(a + b); });
+  return detail::reduce_halves(x, [](T const& a, T const& b) { return T(a + b); });
 }
 
 template <Num T>
 PLUME_INLINE scalar_t<T> reduce_min(T const& x) noexcept {
-  return detail::reduce_halves(
-      x, [](T const& a, T const& b) { return plume::min(a, b); },
-      [](scalar_t<T> a, scalar_t<T> b) { return plume::min(a, b); });
+  return detail::reduce_halves(x, [](T const& a, T const& b) { return plume::min(a, b); });
 }
 
 template <Num T>
 PLUME_INLINE scalar_t<T> reduce_max(T const& x) noexcept {
-  return detail::reduce_halves(
-      x, [](T const& a, T const& b) { return plume::max(a, b); },
-      [](scalar_t<T> a, scalar_t<T> b) { return plume::max(a, b); });
+  return detail::reduce_halves(x, [](T const& a, T const& b) { return plume::max(a, b); });
 }
 
 } // namespace plume
