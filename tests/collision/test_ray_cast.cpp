@@ -470,6 +470,37 @@ TEMPLATE_TEST_CASE("a ray with any non-finite component misses, from inside too"
   }
 }
 
+TEST_CASE("a long finite direction from inside: toi 0 up to the documented overflow",
+          "[collision][ray]") {
+  // The solid sphere and capsule test an inside origin's direction through b - b with
+  // b = f . d (see ray_cast.hpp's conventions): any direction whose dot product with the
+  // origin stays finite hits at 0, one where it overflows is a miss, not a NaN hit.
+  float const inf = std::numeric_limits<float>::infinity();
+  Vec3 const o{0.5f, 0.5f, 0.5f}; // inside Sphere{1} and Capsule{0.5, 1}
+  for (Vec3 const d : {Vec3{1e30f, -1e30f, 2e30f}, Vec3{1e38f, 1e38f, -1e38f}}) {
+    for (bool solid_sphere : {true, false}) {
+      RayHit const h = solid_sphere ? ray_cast_local(Sphere{1}, Ray3{o, d}, inf)
+                                    : ray_cast_local(Capsule{0.5f, 1}, Ray3{o, d}, inf);
+      INFO((solid_sphere ? "sphere" : "capsule") << " d " << d);
+      CHECK(h.hit);
+      CHECK(h.toi == 0.0f);
+      CHECK(h.normal.length() == 0.0f);
+      CHECK(h.feature == -1.0f);
+    }
+  }
+  // 0.5 * 3e38 * 3 = 4.5e38 > FLT_MAX: a miss. The capsule's test sees the origin relative
+  // to its top end, (0.5, 0, 0.5) here: 0.5 * 3e38 * 2 is finite and it still hits; from
+  // (0.5, 0.9, 0.5), 1.4 * 3e38 overflows.
+  Vec3 const huge{3e38f, 3e38f, 3e38f};
+  RayHit const sphere = ray_cast_local(Sphere{1}, Ray3{o, huge}, inf);
+  CHECK_FALSE(sphere.hit);
+  CHECK(sphere.toi == inf);
+  CHECK(ray_cast_local(Capsule{0.5f, 1}, Ray3{o, huge}, inf).toi == 0.0f);
+  RayHit const capsule = ray_cast_local(Capsule{0.5f, 1}, Ray3{{0.5f, 0.9f, 0.5f}, huge}, inf);
+  CHECK_FALSE(capsule.hit);
+  CHECK(capsule.toi == inf);
+}
+
 TEST_CASE("far spheres: the robust discriminant classifies rays like long double",
           "[collision][ray]") {
   // r / |f| = 1e-3: rays aimed within a few radii of a sphere 1000 radii away.

@@ -18,6 +18,11 @@
 //    its origin is inside (toi = 0). A non-finite origin or direction, or a NaN max_toi, is
 //    a miss in that lane only. Shape sizes are finite and >= 0; an infinite or NaN size
 //    gives an unspecified hit (no trap, no hang, other lanes untouched).
+//  - Directions of ordinary length: spheres, capsules and cylinders square |dir|, so from
+//    outside a direction whose square overflows (|dir| > 1.8e19 in float) misses them, and
+//    from inside a solid sphere or capsule a direction whose dot product with the origin
+//    (relative to the centre, or to the capsule's upper end) overflows counts as
+//    non-finite: a miss (|dir| above about 3e38 / size).
 //  - Robust forms (notes/collision.md): the sphere and cylinder discriminants are computed
 //    as a (r^2 - |f - (b/a) d|^2) = a r^2 - |f x d|^2, without the cancellation of b^2 - a c
 //    for small or far shapes, and the roots as c/q and q/a with q = -(b + sign(b) sqrt(disc))
@@ -126,11 +131,16 @@ PLUME_INLINE ray_interval<T> quadric_roots(GVec3<T> f, GVec3<T> d, T r) noexcept
 /// inf - inf included), in every arrangement; callers need not test the ray's validity
 /// where they take this entry. `ahead` is ok without disc >= 0: where disc < 0 (or NaN) t
 /// is NaN, which fails every comparison, so a caller that rejects a NaN t can use it and
-/// save the test.
+/// save the test. `toward` is ahead without c > 0, for a caller that takes another answer
+/// wherever the origin is inside (c <= 0 is exactly f . f <= r^2, the subtraction being
+/// exact in sign; a NaN c comes with a NaN b). b - b is +0 where b is finite and NaN where
+/// it is not: for a finite f it is NaN for every non-finite d (each of f's components
+/// times an infinity is infinite or NaN), and for a finite d only if |f . d| overflows.
 template <Real T>
 struct entry_root {
-  mask_t<T> ok, ahead;
+  mask_t<T> ok, ahead, toward;
   T t; ///< meaningful where ok; NaN where ahead and not ok
+  T b; ///< f . d
 };
 template <bool Flat, Real T>
 PLUME_INLINE entry_root<T> quadric_entry(GVec3<T> const& f, GVec3<T> const& d, T r) noexcept {
@@ -148,9 +158,10 @@ PLUME_INLINE entry_root<T> quadric_entry(GVec3<T> const& f, GVec3<T> const& d, T
     c = f.dot(f) - r2;
     disc = a * r2 - f.cross(d).length_squared();
   }
-  mask_t<T> const ahead = ((c > z) & (b < z)) & (a > z);
+  mask_t<T> const toward = (b < z) & (a > z);
+  mask_t<T> const ahead = toward & (c > z);
   mask_t<T> const ok = ahead & (disc >= z);
-  return {ok, ahead, c / (plume::sqrt(disc) - b)};
+  return {ok, ahead, toward, c / (plume::sqrt(disc) - b), b};
 }
 
 /// One axis of a slab test lo <= o + t d <= hi: the offsets of the planes from the origin and
@@ -245,9 +256,7 @@ PLUME_INLINE GRayHit<T> with_normal(pre_hit<T> const& h, GVec3<T> const& n, T fe
           plume::select(surface, feature, -one<T>())};
 }
 
-/// +0 where d is finite, NaN where it is not: (x - x) summed over the components. Solid
-/// casts from inside take it as their toi, which then fails toi <= max_toi for a non-finite
-/// direction (an origin inside a finite shape is finite itself).
+/// +0 where d is finite, NaN where it is not: (x - x) summed over the components.
 template <Real T>
 PLUME_INLINE T zero_if_finite(GVec3<T> const& d) noexcept {
   return ((d.x - d.x) + (d.y - d.y)) + (d.z - d.z);
@@ -286,11 +295,12 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray,
     auto const e = detail::quadric_entry<false>(ray.origin, ray.dir, s.radius);
     // Validity without ray_valid's eleven operations: an entry implies a finite ray (see
     // quadric_entry), and an origin inside a finite radius is finite, so only the direction
-    // of the inside lanes is left: their toi is +0, or NaN for a non-finite direction. The
-    // toi <= limit test rejects that NaN, a NaN entry (disc < 0, hence e.ahead, not e.ok),
-    // an entry at +infinity, and every toi for a NaN max_toi (min_select keeps it).
-    T const toi = plume::select(inside, detail::zero_if_finite(ray.dir), e.t);
-    h.hit = (inside | e.ahead) & (toi <= plume::min_select(max_value<T>(), max_toi));
+    // of the inside lanes is left: their toi is b - b, +0 for a finite direction and NaN
+    // otherwise (see entry_root). The toi <= limit test rejects that NaN, a NaN entry
+    // (disc < 0: toward, not ok), an entry at +infinity, and every toi for a NaN max_toi
+    // (min_select keeps it). Outside lanes need no c > 0: toward, not ahead.
+    T const toi = plume::select(inside, e.b - e.b, e.t);
+    h.hit = (inside | e.toward) & (toi <= plume::min_select(max_value<T>(), max_toi));
     h.toi = plume::select(h.hit, toi, infinity<T>());
     h.leaving = z < z;
     h.bare = inside;
@@ -430,8 +440,9 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& r
     // end sphere's entry implies a finite ray (quadric_entry), and so does the side's where
     // its height passes the test (the side's roots see only x and z, but a non-finite o.y or
     // d.y makes that height infinite or NaN); so, as for spheres, only the direction of the
-    // inside lanes is left to test: their toi is NaN for a non-finite one.
-    T const toi = plume::select(inside, detail::zero_if_finite(d), detail::min_of(t_side, t_ends));
+    // inside lanes is left to test: their toi is b - b of the top sphere (o is finite there),
+    // NaN for a non-finite direction.
+    T const toi = plume::select(inside, top.b - top.b, detail::min_of(t_side, t_ends));
     hit.hit = toi <= plume::min_select(max_value<T>(), max_toi);
     hit.toi = plume::select(hit.hit, toi, inf);
     hit.leaving = z < z;
