@@ -478,10 +478,10 @@ TEST_CASE("a long finite direction from inside: toi 0 up to the documented overf
   float const inf = std::numeric_limits<float>::infinity();
   Vec3 const o{0.5f, 0.5f, 0.5f}; // inside Sphere{1} and Capsule{0.5, 1}
   for (Vec3 const d : {Vec3{1e30f, -1e30f, 2e30f}, Vec3{1e38f, 1e38f, -1e38f}}) {
-    for (bool solid_sphere : {true, false}) {
-      RayHit const h = solid_sphere ? ray_cast_local(Sphere{1}, Ray3{o, d}, inf)
-                                    : ray_cast_local(Capsule{0.5f, 1}, Ray3{o, d}, inf);
-      INFO((solid_sphere ? "sphere" : "capsule") << " d " << d);
+    for (bool sphere : {true, false}) {
+      RayHit const h = sphere ? ray_cast_local(Sphere{1}, Ray3{o, d}, inf)
+                              : ray_cast_local(Capsule{0.5f, 1}, Ray3{o, d}, inf);
+      INFO((sphere ? "sphere" : "capsule") << " d " << d);
       CHECK(h.hit);
       CHECK(h.toi == 0.0f);
       CHECK(h.normal.length() == 0.0f);

@@ -129,17 +129,18 @@ PLUME_INLINE ray_interval<T> quadric_roots(GVec3<T> f, GVec3<T> d, T r) noexcept
 /// ok also implies a finite f and d: an infinite or NaN component makes c, b or a NaN, or
 /// the cross product's square infinite or NaN and so disc -inf or NaN (inf * 0 and
 /// inf - inf included), in every arrangement; callers need not test the ray's validity
-/// where they take this entry. `ahead` is ok without disc >= 0: where disc < 0 (or NaN) t
-/// is NaN, which fails every comparison, so a caller that rejects a NaN t can use it and
-/// save the test. `toward` is ahead without c > 0, for a caller that takes another answer
-/// wherever the origin is inside (c <= 0 is exactly f . f <= r^2, the subtraction being
-/// exact in sign; a NaN c comes with a NaN b). b - b is +0 where b is finite and NaN where
-/// it is not: for a finite f it is NaN for every non-finite d (each of f's components
-/// times an infinity is infinite or NaN), and for a finite d only if |f . d| overflows.
+/// where they take this entry.
+///
+/// `toward` is ok without c > 0 and disc >= 0, for a caller that takes another answer
+/// wherever the origin is inside and rejects a NaN t: c <= 0 is exactly f . f <= r^2 (the
+/// subtraction is exact in sign; a NaN c comes with a NaN b), and where disc < 0 (or NaN)
+/// t is NaN, which fails every comparison. b - b is +0 where b is finite and NaN where it
+/// is not: for a finite f it is NaN for every non-finite d (each of f's components times
+/// an infinity is infinite or NaN), and for a finite d only if |f . d| overflows.
 template <Real T>
 struct entry_root {
-  mask_t<T> ok, ahead, toward;
-  T t; ///< meaningful where ok; NaN where ahead and not ok
+  mask_t<T> ok, toward;
+  T t; ///< meaningful where ok; NaN where toward, outside, and not ok
   T b; ///< f . d
 };
 template <bool Flat, Real T>
@@ -159,9 +160,8 @@ PLUME_INLINE entry_root<T> quadric_entry(GVec3<T> const& f, GVec3<T> const& d, T
     disc = a * r2 - f.cross(d).length_squared();
   }
   mask_t<T> const toward = (b < z) & (a > z);
-  mask_t<T> const ahead = toward & (c > z);
-  mask_t<T> const ok = ahead & (disc >= z);
-  return {ok, ahead, toward, c / (plume::sqrt(disc) - b), b};
+  mask_t<T> const ok = (toward & (c > z)) & (disc >= z);
+  return {ok, toward, c / (plume::sqrt(disc) - b), b};
 }
 
 /// One axis of a slab test lo <= o + t d <= hi: the offsets of the planes from the origin and
@@ -298,7 +298,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray,
     // of the inside lanes is left: their toi is b - b, +0 for a finite direction and NaN
     // otherwise (see entry_root). The toi <= limit test rejects that NaN, a NaN entry
     // (disc < 0: toward, not ok), an entry at +infinity, and every toi for a NaN max_toi
-    // (min_select keeps it). Outside lanes need no c > 0: toward, not ahead.
+    // (min_select keeps it).
     T const toi = plume::select(inside, e.b - e.b, e.t);
     h.hit = (inside | e.toward) & (toi <= plume::min_select(max_value<T>(), max_toi));
     h.toi = plume::select(h.hit, toi, infinity<T>());
