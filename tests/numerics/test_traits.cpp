@@ -225,6 +225,25 @@ TEMPLATE_LIST_TEST_CASE("integer element types", "[numerics][int]", test::int_ty
   CHECK(lane(plume::clamp(splat<T>(9), b, a), 0) == S(7));
   CHECK(lane(a * b + a - b, 0) == S(25));
   CHECK(plume::reduce_add(a) == S(7 * lanes_v<T>));
+  // Distinct lanes, so that a reduction pairing the wrong lanes (a wrong shift or block
+  // order in registers, numerics/reduce.hpp) counts some twice and others not at all; the
+  // extremes sit in every lane in turn. The unsigned largest value has the sign bit set, so
+  // a signed compare would take it for the smallest. (Unsigned sums wrap, as they may.)
+  S const small = std::is_signed_v<S> ? S(-1000) : S(0);
+  S const large = std::is_signed_v<S> ? S(1) << 30 : std::numeric_limits<S>::max();
+  for (std::size_t at = 0; at < lanes_v<T>; ++at) {
+    T x = zero<T>();
+    S sum = 0;
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      S const v = i == at ? small : i == (at + 1) % lanes_v<T> ? large : S(3 * i + 1);
+      x = with_lane(x, i, v);
+      sum = S(sum + v);
+    }
+    INFO("extremes at lane " << at);
+    CHECK(plume::reduce_add(x) == sum);
+    CHECK(plume::reduce_min(x) == small);
+    CHECK(plume::reduce_max(x) == (lanes_v<T> == 1 ? small : large));
+  }
   if constexpr (std::is_signed_v<S>) {
     CHECK(lane(plume::abs(splat<T>(-4)), 0) == S(4));
     CHECK(lane(plume::signum(splat<T>(-4)), 0) == S(-1));
