@@ -7,8 +7,11 @@
 // frame by a subtraction), a world box (AABB, stored as its min and max corners), a full pose
 // (oriented box: a quaternion rotation per ray), or world vertices (triangle: the corners of
 // the box's axes around the centre). Each cast's whole hit is stored to an array, at every
-// width. The per-ray lambdas are forced inline
-// (PLUME_BENCH_INLINE): g++ otherwise may keep one out of line, and the timed loop then
+// width. Peers (AVX2 builds and wider): ray_sphere and one_ray_sphere hand-written in AVX2
+// intrinsics, unfused (plume's formulas and operation order: the same bits, checked before
+// the benchmarks run) and fused (intrinsics_fma, on CPUs with FMA: what plume's
+// build-exactness, which rules fusing out, costs this kernel). The per-ray lambdas are forced
+// inline (PLUME_BENCH_INLINE): g++ otherwise may keep one out of line, and the timed loop then
 // measures a call and a result passed through memory.
 #include <plume/collision.hpp>
 
@@ -16,6 +19,13 @@
 
 #include <benchmark/benchmark.h>
 
+#if PLUME_HAS_AVX2
+#include <immintrin.h>
+#endif
+
+#include <cstdio>
+#include <cstring>
+#include <limits>
 #include <random>
 #include <string>
 #include <type_traits>
@@ -154,9 +164,151 @@ void register_width() {
       });
 }
 
+#if PLUME_HAS_AVX2
+/// a * b + c, rounded twice (Fused = false: what plume computes in every deterministic
+/// build) or once (true: an FMA instruction).
+template <bool Fused>
+__attribute__((always_inline, target("fma"))) inline __m256 madd(__m256 a, __m256 b, __m256 c) {
+  if constexpr (Fused)
+    return _mm256_fmadd_ps(a, b, c);
+  else
+    return _mm256_add_ps(_mm256_mul_ps(a, b), c);
+}
+/// a * b - c * d: the second product rounded, the first fused into the subtraction or not.
+template <bool Fused>
+__attribute__((always_inline, target("fma"))) inline __m256 mdiff(__m256 a, __m256 b, __m256 c,
+                                                                  __m256 d) {
+  if constexpr (Fused)
+    return _mm256_fmsub_ps(a, b, _mm256_mul_ps(c, d));
+  else
+    return _mm256_sub_ps(_mm256_mul_ps(a, b), _mm256_mul_ps(c, d));
+}
+
+/// Hand-written AVX2 solid ray-sphere cast over the packed scene: ray_sphere's work (ray i
+/// against sphere i, or with OneRay ray 0 in every lane against every sphere, the whole hit
+/// stored). Unfused, it is the same formulas in the same operation order as
+/// ray_cast_local(GSphere) with max_toi = +infinity, and gives plume's bits
+/// (intrinsics_agree checks it): the abstraction-cost reference. Fused, it is the same kernel
+/// with every product that feeds a sum fused: not plume's bits in any deterministic build
+/// (their scalar and SSE2 builds have no FMA), so it measures what build-exactness costs.
+/// (target("fma") only allows the fused instantiation: -ffp-contract=off keeps the unfused
+/// one unfused.)
+template <bool Fused, bool OneRay>
+__attribute__((target("fma"))) void
+sphere_intrinsics(packed<plume::f32x8> const& p, plume::GVec3<plume::f32x8> const& o0,
+                  plume::GVec3<plume::f32x8> const& d0, plume::GRayHit<plume::f32x8>* out) {
+  using plume::f32x8;
+  __m256 const zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.f),
+               inf = _mm256_set1_ps(std::numeric_limits<float>::infinity()),
+               lim = _mm256_set1_ps(std::numeric_limits<float>::max()), none = _mm256_set1_ps(-1.f);
+  __m256 const ox0 = o0.x.data, oy0 = o0.y.data, oz0 = o0.z.data;
+  __m256 const dx0 = d0.x.data, dy0 = d0.y.data, dz0 = d0.z.data;
+  for (std::size_t i = 0; i < p.o.size(); ++i) {
+    __m256 const fx = _mm256_sub_ps(OneRay ? ox0 : p.o[i].x.data, p.c[i].x.data),
+                 fy = _mm256_sub_ps(OneRay ? oy0 : p.o[i].y.data, p.c[i].y.data),
+                 fz = _mm256_sub_ps(OneRay ? oz0 : p.o[i].z.data, p.c[i].z.data);
+    __m256 const dx = OneRay ? dx0 : p.d[i].x.data, dy = OneRay ? dy0 : p.d[i].y.data,
+                 dz = OneRay ? dz0 : p.d[i].z.data, r = p.r[i].data;
+    // a = d . d, b = f . d, |f|^2 (sums left to right, as GVec3::dot), c = |f|^2 - r^2
+    __m256 const a = madd<Fused>(dz, dz, madd<Fused>(dy, dy, _mm256_mul_ps(dx, dx)));
+    __m256 const b = madd<Fused>(fz, dz, madd<Fused>(fy, dy, _mm256_mul_ps(fx, dx)));
+    __m256 const ff = madd<Fused>(fz, fz, madd<Fused>(fy, fy, _mm256_mul_ps(fx, fx)));
+    __m256 const r2 = _mm256_mul_ps(r, r);
+    // disc = a r^2 - |f x d|^2, the entry c / (sqrt(disc) - b)
+    __m256 const kx = mdiff<Fused>(fy, dz, fz, dy), ky = mdiff<Fused>(fz, dx, fx, dz),
+                 kz = mdiff<Fused>(fx, dy, fy, dx);
+    __m256 const k2 = madd<Fused>(kz, kz, madd<Fused>(ky, ky, _mm256_mul_ps(kx, kx)));
+    __m256 const disc = _mm256_sub_ps(_mm256_mul_ps(a, r2), k2);
+    __m256 const t = _mm256_div_ps(_mm256_sub_ps(ff, r2), _mm256_sub_ps(_mm256_sqrt_ps(disc), b));
+    // inside: toi b - b (0, or NaN for a non-finite direction); outside: hit when moving
+    // towards the centre and t <= FLT_MAX (a NaN t, disc < 0, fails)
+    __m256 const inside = _mm256_cmp_ps(ff, r2, _CMP_LE_OQ);
+    __m256 const toward =
+        _mm256_and_ps(_mm256_cmp_ps(b, zero, _CMP_LT_OQ), _mm256_cmp_ps(a, zero, _CMP_GT_OQ));
+    __m256 const toi = _mm256_blendv_ps(t, _mm256_sub_ps(b, b), inside);
+    __m256 const hit =
+        _mm256_and_ps(_mm256_or_ps(inside, toward), _mm256_cmp_ps(toi, lim, _CMP_LE_OQ));
+    // normal (f + d t) / r where the hit has a surface and r > 0; feature 0 there, else -1
+    __m256 const inv_r = _mm256_div_ps(one, r);
+    __m256 const surface = _mm256_andnot_ps(inside, hit);
+    __m256 const keep = _mm256_and_ps(surface, _mm256_cmp_ps(r, zero, _CMP_GT_OQ));
+    plume::GRayHit<f32x8>& h = out[i];
+    h.hit = plume::mask_t<f32x8>(hit);
+    h.toi = f32x8(_mm256_blendv_ps(inf, toi, hit));
+    h.normal.x = f32x8(_mm256_and_ps(keep, _mm256_mul_ps(madd<Fused>(dx, t, fx), inv_r)));
+    h.normal.y = f32x8(_mm256_and_ps(keep, _mm256_mul_ps(madd<Fused>(dy, t, fy), inv_r)));
+    h.normal.z = f32x8(_mm256_and_ps(keep, _mm256_mul_ps(madd<Fused>(dz, t, fz), inv_r)));
+    h.feature = f32x8(_mm256_andnot_ps(surface, none));
+  }
+}
+
+/// Runs the kernel on the scene; o0 and d0 are ray 0 in every lane (one_ray_sphere's ray).
+template <bool Fused>
+void sphere_intrinsics_run(packed<plume::f32x8> const& p, bool one_ray,
+                           plume::GRayHit<plume::f32x8>* out) {
+  plume::GVec3<plume::f32x8> const o0(data().o[0]), d0(data().d[0]);
+  if (one_ray)
+    sphere_intrinsics<Fused, true>(p, o0, d0, out);
+  else
+    sphere_intrinsics<Fused, false>(p, o0, d0, out);
+}
+
+void register_intrinsics() {
+  __builtin_cpu_init();
+  bool const fma = __builtin_cpu_supports("fma");
+  for (bool fused : {false, true})
+    for (bool one_ray : {false, true}) {
+      if (fused && !fma) continue;
+      std::string const name = std::string(one_ray ? "one_ray_sphere" : "ray_sphere") +
+                               (fused ? "/f32/intrinsics_fma/x8" : "/f32/intrinsics/x8");
+      benchmark::RegisterBenchmark(name.c_str(), [fused, one_ray](benchmark::State& st) {
+        packed<plume::f32x8> const p;
+        std::vector<plume::GRayHit<plume::f32x8>> out(p.o.size());
+        plume::bench::run_items(st, N, [&] {
+          if (fused)
+            sphere_intrinsics_run<true>(p, one_ray, out.data());
+          else
+            sphere_intrinsics_run<false>(p, one_ray, out.data());
+          benchmark::DoNotOptimize(out.data());
+          benchmark::ClobberMemory();
+        });
+      });
+    }
+}
+
+/// The unfused intrinsics kernel must compute what plume computes, bit for bit, or the
+/// comparison would not be of the same work.
+bool intrinsics_agree() {
+  using plume::f32x8;
+  using V = plume::GVec3<f32x8>;
+  packed<f32x8> const p;
+  V const o0(data().o[0]), d0(data().d[0]);
+  std::vector<plume::GRayHit<f32x8>> got(p.o.size());
+  for (bool one_ray : {false, true}) {
+    sphere_intrinsics_run<false>(p, one_ray, got.data());
+    for (std::size_t i = 0; i < p.o.size(); ++i) {
+      V const o = one_ray ? o0 : p.o[i], d = one_ray ? d0 : p.d[i];
+      auto const want =
+          plume::ray_cast_local(plume::GSphere<f32x8>{p.r[i]}, plume::GRay3<f32x8>{o - p.c[i], d},
+                                plume::infinity<f32x8>());
+      if (std::memcmp(&want, &got[i], sizeof want) != 0) {
+        std::fprintf(stderr, "intrinsics ray-sphere differs from plume at batch %zu%s\n", i,
+                     one_ray ? " (one ray)" : "");
+        return false;
+      }
+    }
+  }
+  return true;
+}
+#endif
+
 } // namespace
 
 int main(int argc, char** argv) {
   plume::bench::for_each_f32_width([]<class T>() { register_width<T>(); });
+#if PLUME_HAS_AVX2
+  register_intrinsics();
+  if (!intrinsics_agree()) return 1;
+#endif
   return plume::bench::run_benchmarks(argc, argv);
 }
