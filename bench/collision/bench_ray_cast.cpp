@@ -165,14 +165,15 @@ void register_width() {
 }
 
 #if PLUME_HAS_AVX2
-/// a * b + c, rounded twice (Fused = false: what plume computes in every deterministic
-/// build) or once (true: an FMA instruction).
+/// c + a * b, rounded twice (Fused = false: what plume computes in every deterministic
+/// build, c the left operand as in plume's sums, (x x + y y) + z z and o + d t) or once (true:
+/// an FMA instruction).
 template <bool Fused>
 __attribute__((always_inline, target("fma"))) inline __m256 madd(__m256 a, __m256 b, __m256 c) {
   if constexpr (Fused)
     return _mm256_fmadd_ps(a, b, c);
   else
-    return _mm256_add_ps(_mm256_mul_ps(a, b), c);
+    return _mm256_add_ps(c, _mm256_mul_ps(a, b));
 }
 /// a * b - c * d: the second product rounded, the first fused into the subtraction or not.
 template <bool Fused>
