@@ -36,6 +36,12 @@
 //    0 side, 1 upper end (+y), 2 lower end; cylinders 0 side, 1 top cap, 2 bottom cap;
 //    triangles 0 front (the side (b - a) x (c - a) points to), 1 back; spheres and
 //    half-spaces 0. A number of type T, so that wide hits carry one per lane.
+//
+// Locals copied whole (into a returned struct, or a struct copied as one) are not const:
+// g++ 12's scalar replacement of aggregates gives up on a const local that inlined code
+// stores into, so the local, and the struct built from it, stay on the stack: stores and
+// reloads in every wide loop (one const mask cost the AVX2 triangle cast 45 instructions
+// and 23 stack references per batch).
 #pragma once
 
 #include <plume/collision/shapes.hpp>
@@ -162,10 +168,10 @@ PLUME_INLINE entry_root<T> quadric_entry(GVec3<T> const& f, GVec3<T> const& d, T
   // The root first, the masks after: g++ emits x86 code close to source order, and masks
   // computed first stay live across the square root and the division (with AVX2's 16
   // registers the sphere's x8 loop had 6 stack references, now 3; the capsule's x8 loop is
-  // 4-6% faster).
-  T const t = c / (plume::sqrt(disc) - b);
-  mask_t<T> const toward = (b < z) & (a > z);
-  mask_t<T> const ok = (toward & (c > z)) & (disc >= z);
+  // 4-6% faster). t, toward and ok are not const: see "Locals copied whole" above.
+  T t = c / (plume::sqrt(disc) - b);
+  mask_t<T> toward = (b < z) & (a > z);
+  mask_t<T> ok = (toward & (c > z)) & (disc >= z);
   return {ok, toward, t, b};
 }
 
@@ -298,7 +304,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray,
   detail::pre_hit<T> h;
   if (solid) {
     T const z = zero<T>();
-    auto const e = detail::quadric_entry<false>(ray.origin, ray.dir, s.radius);
+    auto e = detail::quadric_entry<false>(ray.origin, ray.dir, s.radius); // not const: header
     auto const inside = ray.origin.length_squared() <= r2; // after the root (quadric_entry)
     // Validity without ray_valid's eleven operations: an entry implies a finite ray (see
     // quadric_entry), and an origin inside a finite radius is finite, so only the direction
@@ -438,9 +444,10 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& r
     // |y| <= h (the cylinder's flat ends are inside the spheres), or an end sphere. Three
     // entry roots, each independent of the others (one quadric deep), and their minimum.
     T const inf = infinity<T>();
-    auto const side = detail::quadric_entry<true>(o, d, r);
-    auto const top = detail::quadric_entry<false>(V{o.x, o.y - h, o.z}, d, r);
-    auto const bottom = detail::quadric_entry<false>(V{o.x, o.y + h, o.z}, d, r);
+    // Not const (see the header), like top and bottom.
+    auto side = detail::quadric_entry<true>(o, d, r);
+    auto top = detail::quadric_entry<false>(V{o.x, o.y - h, o.z}, d, r);
+    auto bottom = detail::quadric_entry<false>(V{o.x, o.y + h, o.z}, d, r);
     T const t_side = plume::select(side.ok & (plume::abs(o.y + d.y * side.t) <= h), side.t, inf);
     T const t_ends =
         detail::min_of(plume::select(top.ok, top.t, inf), plume::select(bottom.ok, bottom.t, inf));
@@ -518,7 +525,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCylinder<T> const& cyl, GRay3<T> const& 
   mask_t<T> const meets = side.ok & detail::interval_met(tin, tout);
   detail::ray_interval<T> iv{meets, tin, tout};
   auto const inside = in_disc & (plume::abs(o.y) <= h);
-  auto const hit = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, solid);
+  auto hit = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, solid); // not const
   auto const on_cap = plume::select(hit.leaving, cap_out, cap_in);
   V const p = ray.at(hit.toi);
   V const n = V::select(on_cap, V{z, plume::select(hit.leaving, -up, up), z},
@@ -573,6 +580,12 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
   using S = scalar_t<T>;
   T const z = zero<T>();
   V const& d = ray.dir;
+  // The normal and the ray's validity first: they need the vertices and the ray, which are
+  // then dead (with AVX2's 16 registers, keeping them for the end spilled them).
+  V const n = detail::unit_or_zero(tri.scaled_normal());
+  M const back = n.dot(d) > z; // coming from behind: the back face
+  V const facing = V::select(back, -n, n);
+  M const valid = detail::ray_valid(ray);
   // kz: the axis of the largest |d| (first on ties); kx, ky the next ones cyclically, swapped
   // when d[kz] < 0 so the winding is kept.
   T const ax = plume::abs(d.x), ay = plume::abs(d.y), az = plume::abs(d.z);
@@ -599,9 +612,14 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
   T U = Cx * By - Cy * Bx;
   T W_ = Bx * Ay - By * Ax;
   T Vv = Ax * Cy - Ay * Cx;
+  // An edge function exactly zero is rare (a ray through an edge or a vertex, or one that
+  // float cannot tell from one), and only there does the edge need more work: a recompute
+  // in double, then the ownership rule. Both wait behind one branch on any lane, so the
+  // common case costs a compare; lanes with no zero are unchanged by either.
+  M const exact_zero = (U == z) | (Vv == z) | (W_ == z);
+  bool const any_zero = plume::any(exact_zero);
   if constexpr (std::is_same_v<S, float>) {
-    M const exact_zero = (U == z) | (Vv == z) | (W_ == z);
-    if (plume::any(exact_zero)) [[unlikely]] {
+    if (any_zero) [[unlikely]] {
       for (std::size_t i = 0; i < lanes_v<T>; ++i) {
         if (!plume::lane(exact_zero, i)) continue;
         auto const dd = [&](T const& x) { return static_cast<double>(plume::lane(x, i)); };
@@ -612,23 +630,25 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
     }
   }
   T const det = (U + Vv) + W_;
+  // The distance first: it frees the sheared z coordinates before the edge tests.
+  T const tn = (U * (sz * pz(A)) + Vv * (sz * pz(B))) + W_ * (sz * pz(C));
+  T const t = tn / det;
   // Orient so the triangle is positive (det > 0): inside means every edge function >= 0.
   M const pos = det > z;
   T const su = plume::select(pos, U, -U), sv = plume::select(pos, Vv, -Vv),
           sw = plume::select(pos, W_, -W_);
-  // Edges opposite A, B, C: B -> C, C -> A, A -> B (reversed for a negative triangle).
-  auto const edge_ok = [&](T e, T x0, T y0, T x1, T y1) {
-    T const ex = plume::select(pos, x1 - x0, x0 - x1), ey = plume::select(pos, y1 - y0, y0 - y1);
-    return (e > z) | ((e == z) & detail::owns_edge(ex, ey));
-  };
-  M const inside =
-      edge_ok(su, Bx, By, Cx, Cy) & edge_ok(sv, Cx, Cy, Ax, Ay) & edge_ok(sw, Ax, Ay, Bx, By);
-  T const tn = (U * (sz * pz(A)) + Vv * (sz * pz(B))) + W_ * (sz * pz(C));
-  T const t = tn / det;
-  M const hit = detail::ray_valid(ray) & inside & (det != z) & (t >= z) & (t <= max_toi);
-  V const n = detail::unit_or_zero(tri.scaled_normal());
-  M const back = n.dot(d) > z; // coming from behind: the back face
-  V const facing = V::select(back, -n, n);
+  M inside = (su > z) & (sv > z) & (sw > z);
+  if (any_zero) [[unlikely]] {
+    // Edges opposite A, B, C: B -> C, C -> A, A -> B (reversed for a negative triangle); an
+    // edge function still zero passes where the ray is on an edge this triangle owns.
+    auto const edge_ok = [&](T e, T x0, T y0, T x1, T y1) {
+      T const ex = plume::select(pos, x1 - x0, x0 - x1), ey = plume::select(pos, y1 - y0, y0 - y1);
+      return (e > z) | ((e == z) & detail::owns_edge(ex, ey));
+    };
+    inside =
+        edge_ok(su, Bx, By, Cx, Cy) & edge_ok(sv, Cx, Cy, Ax, Ay) & edge_ok(sw, Ax, Ay, Bx, By);
+  }
+  M hit = valid & inside & (det != z) & (t >= z) & (t <= max_toi); // not const: header
   return {hit, plume::select(hit, t, infinity<T>()), detail::keep_where(hit, facing),
           plume::select(hit, plume::select(back, one<T>(), z), -one<T>())};
 }
