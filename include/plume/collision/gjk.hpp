@@ -25,6 +25,11 @@
 // (NaN results, no hit), other lanes untouched. Every query stops after max_iterations and
 // says so. Cores that overlap (penetration deeper than the radii) are reported as overlap /
 // penetrating with a zero normal: their depth and normal need EPA.
+//
+// Locals here and in detail/simplex.hpp are not const: simplex vertices, steps and the masks
+// built into them are copied whole, and g++ 12 keeps a const local that inlined code stores
+// into on the stack (see ray_cast.hpp). Dropping const made the AVX2 build 11-14% faster
+// at x8 (the scalar and AVX-512 builds: unchanged).
 #pragma once
 
 #include <plume/collision/detail/simplex.hpp>
@@ -128,8 +133,8 @@ PLUME_INLINE mask_t<T> finite3(GVec3<T> const& v) noexcept {
 template <class SA, class SB, Real T>
 PLUME_INLINE simplex_vertex<T> minkowski_vertex(SA const& sa, SB const& sb,
                                                 GVec3<T> const& d) noexcept {
-  GVec3<T> const a = sa.support(-d);
-  GVec3<T> const b = sb.support(d);
+  GVec3<T> a = sa.support(-d);
+  GVec3<T> b = sb.support(d);
   return {b - a, a, b};
 }
 
@@ -155,9 +160,9 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
                                     GVec3<T> const& r, T max_toi, T radius, GVec3<T> v0,
                                     mask_t<T> bad_input, GjkConfig const& cfg) noexcept {
   using S = scalar_t<T>;
-  T const z = zero<T>();
-  T const tol = splat<T>(S(cfg.tolerance));
-  T const floor_k = splat<T>(S(16)) * epsilon<T>();
+  T z = zero<T>();
+  T tol = splat<T>(S(cfg.tolerance));
+  T floor_k = splat<T>(S(16)) * epsilon<T>();
 
   cast_state<T> out;
   out.hit = mask_t<T>(false);
@@ -182,19 +187,19 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
   for (int it = 0; it < cfg.max_iterations; ++it) {
     if (plume::none(active)) break;
     out.iterations = plume::select(active, out.iterations + one<T>(), out.iterations);
-    simplex_vertex<T> const w = minkowski_vertex(sa, sb, v);
-    mask_t<T> const finite_step = finite3(w.p) & finite3(v);
-    mask_t<T> const bad = !finite_step;
-    GVec3<T> const y = x - w.p;
-    T const vl = plume::sqrt(v.dot(v));
-    T const vy = v.dot(y);
-    T const vr = v.dot(r);
-    mask_t<T> const outside = vy > radius * vl;
-    mask_t<T> const receding = outside & (vr >= z);
-    T const t_new = out.toi - (vy - radius * vl) / plume::select(outside & (vr < z), vr, -one<T>());
-    mask_t<T> const too_far = outside & (!receding) & (t_new > max_toi);
-    mask_t<T> const miss = active & (receding | too_far) & (!bad);
-    mask_t<T> const advance = active & outside & (!receding) & (!too_far) & (!bad);
+    simplex_vertex<T> w = minkowski_vertex(sa, sb, v);
+    mask_t<T> finite_step = finite3(w.p) & finite3(v);
+    mask_t<T> bad = !finite_step;
+    GVec3<T> y = x - w.p;
+    T vl = plume::sqrt(v.dot(v));
+    T vy = v.dot(y);
+    T vr = v.dot(r);
+    mask_t<T> outside = vy > radius * vl;
+    mask_t<T> receding = outside & (vr >= z);
+    T t_new = out.toi - (vy - radius * vl) / plume::select(outside & (vr < z), vr, -one<T>());
+    mask_t<T> too_far = outside & (!receding) & (t_new > max_toi);
+    mask_t<T> miss = active & (receding | too_far) & (!bad);
+    mask_t<T> advance = active & outside & (!receding) & (!too_far) & (!bad);
     // Advance: x moves to the (inflated) support plane; the simplex points stay (they are
     // points of D), only their offsets from x change.
     out.toi = plume::select(advance, t_new, out.toi);
@@ -203,18 +208,18 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
     d2_ref = plume::select(advance, infinity<T>(), d2_ref);
     advanced_ever = advanced_ever | advance;
 
-    simplex_step<T> const step = closest_on_simplex(s, w, x);
-    T const nd2 = step.v.dot(step.v);
-    mask_t<T> const live = active & (!miss) & (!bad);
+    simplex_step<T> step = closest_on_simplex(s, w, x);
+    T nd2 = step.v.dot(step.v);
+    mask_t<T> live = active & (!miss) & (!bad);
     // Close enough: within tolerance of the inflated set, or of its rounding floor (16 eps of
     // the coordinates in play) where float cannot resolve the tolerance.
-    T const floor = floor_k * plume::sqrt(x.dot(x) + w.p.dot(w.p));
-    T const reach = radius + plume::max_select(tol, floor);
-    mask_t<T> const close = (nd2 <= reach * reach) | step.inside;
-    mask_t<T> const stalled = (!advance) & (nd2 >= d2_ref);
-    mask_t<T> const done_hit = live & (close | stalled);
+    T floor = floor_k * plume::sqrt(x.dot(x) + w.p.dot(w.p));
+    T reach = radius + plume::max_select(tol, floor);
+    mask_t<T> close = (nd2 <= reach * reach) | step.inside;
+    mask_t<T> stalled = (!advance) & (nd2 >= d2_ref);
+    mask_t<T> done_hit = live & (close | stalled);
     // Record the step where it is taken (or where it ends in a hit on a new simplex).
-    mask_t<T> const take = live & (!stalled);
+    mask_t<T> take = live & (!stalled);
     auto const [pa, pb] = closest_points(s, w, step.lambda);
     out.pa = GVec3<T>::select(take, pa, out.pa);
     out.pb = GVec3<T>::select(take, pb, out.pb);
@@ -232,9 +237,9 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
     // advance, x "inside" only means it sits on the surface, within rounding).
     // Or x (nearly) on the simplex, where the core distance is rounding noise and gives no
     // direction.
-    mask_t<T> const on_core =
+    mask_t<T> on_core =
         nd2 <= (splat<T>(S(64)) * epsilon<T>()) * (splat<T>(S(64)) * epsilon<T>()) * y.dot(y);
-    mask_t<T> const inside_now = done_hit & (step.inside | on_core) & (!advanced_ever);
+    mask_t<T> inside_now = done_hit & (step.inside | on_core) & (!advanced_ever);
     out.cores_overlap = out.cores_overlap | inside_now;
     out.started_inside = out.started_inside | (done_hit & (!advanced_ever));
     v = GVec3<T>::select(take, step.v, v);
@@ -259,18 +264,18 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
                                                GIso3<T> const& pose_b, GjkConfig const& cfg = {},
                                                GVec3<T> const& axis = {}) noexcept {
   using S = scalar_t<T>;
-  T const z = zero<T>();
+  T z = zero<T>();
   detail::placed<A, T> const sa{a, pose_a};
   detail::placed<B, T> const sb{b, pose_b};
-  T const ra = a.core_radius(), rb = b.core_radius();
-  T const tol = splat<T>(S(cfg.tolerance));
-  T const rel = splat<T>(S(cfg.relative_tolerance));
-  T const eps = epsilon<T>();
+  T ra = a.core_radius(), rb = b.core_radius();
+  T tol = splat<T>(S(cfg.tolerance));
+  T rel = splat<T>(S(cfg.relative_tolerance));
+  T eps = epsilon<T>();
 
-  mask_t<T> const good_input =
+  mask_t<T> good_input =
       ((pose_a.is_finite() & pose_b.is_finite()) & (plume::is_finite(ra) & plume::is_finite(rb))) &
       detail::finite3(axis);
-  mask_t<T> const bad_input = !good_input;
+  mask_t<T> bad_input = !good_input;
   GVec3<T> v = GVec3<T>::select(axis.dot(axis) > z, axis, pose_a.translation - pose_b.translation);
   v = GVec3<T>::select(v.dot(v) > z, v, GVec3<T>::X);
 
@@ -287,24 +292,24 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
   for (int it = 0; it < cfg.max_iterations; ++it) {
     if (plume::none(active)) break;
     iterations = plume::select(active, iterations + one<T>(), iterations);
-    detail::simplex_vertex<T> const w = detail::minkowski_vertex(sa, sb, v);
-    GVec3<T> const y = -w.p; // a - b
-    mask_t<T> const bad = !detail::finite3(y);
+    detail::simplex_vertex<T> w = detail::minkowski_vertex(sa, sb, v);
+    GVec3<T> y = -w.p; // a - b
+    mask_t<T> bad = !detail::finite3(y);
     max_y2 = plume::select(active, plume::max_select(y.dot(y), max_y2), max_y2);
     // Stop when the lower bound v.y/|v| is within tolerance of the upper bound |v|.
-    T const vl = plume::sqrt(d2);
-    T const gap = d2 - v.dot(y);
-    mask_t<T> const has_v = d2 < infinity<T>();
-    mask_t<T> const bounded = has_v & ((gap <= tol * vl) | (gap <= rel * d2));
+    T vl = plume::sqrt(d2);
+    T gap = d2 - v.dot(y);
+    mask_t<T> has_v = d2 < infinity<T>();
+    mask_t<T> bounded = has_v & ((gap <= tol * vl) | (gap <= rel * d2));
 
-    detail::simplex_step<T> const step = detail::closest_on_simplex(s, w, GVec3<T>{});
-    T const nd2 = step.v.dot(step.v);
-    mask_t<T> const no_progress = has_v & (nd2 >= d2);
-    mask_t<T> const touching =
+    detail::simplex_step<T> step = detail::closest_on_simplex(s, w, GVec3<T>{});
+    T nd2 = step.v.dot(step.v);
+    mask_t<T> no_progress = has_v & (nd2 >= d2);
+    mask_t<T> touching =
         step.inside | (nd2 <= (splat<T>(S(64)) * eps) * (splat<T>(S(64)) * eps) * max_y2);
-    mask_t<T> const ok = active & (!bad);
-    mask_t<T> const finish = ok & (bounded | no_progress);
-    mask_t<T> const take = ok & (!finish);
+    mask_t<T> ok = active & (!bad);
+    mask_t<T> finish = ok & (bounded | no_progress);
+    mask_t<T> take = ok & (!finish);
     auto const [npa, npb] = detail::closest_points(s, w, step.lambda);
     pa = GVec3<T>::select(take, npa, pa);
     pb = GVec3<T>::select(take, npb, pb);
@@ -316,7 +321,7 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
     }
     v = GVec3<T>::select(take, step.v, v);
     d2 = plume::select(take, nd2, d2);
-    mask_t<T> const hit_core = take & touching;
+    mask_t<T> hit_core = take & touching;
     overlap = overlap | hit_core;
     failed = failed | (active & bad);
     done = done | finish | hit_core;
@@ -324,9 +329,9 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
   }
 
   GClosestPoints<T> out;
-  T const core = plume::sqrt(d2);
-  GVec3<T> const n = -detail::unit_or_zero(v); // v = a - b points from B to A
-  mask_t<T> const apart = (!overlap) & (n.dot(n) > z);
+  T core = plume::sqrt(d2);
+  GVec3<T> n = -detail::unit_or_zero(v); // v = a - b points from B to A
+  mask_t<T> apart = (!overlap) & (n.dot(n) > z);
   out.overlap = overlap | ((!failed) & (!apart));
   out.normal = GVec3<T>::select(out.overlap, GVec3<T>{}, n);
   out.distance = plume::select(out.overlap, z, (core - ra) - rb);
@@ -335,7 +340,7 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
   out.axis = v;
   out.converged = done & (!failed);
   out.failed = failed;
-  T const qnan = nan<T>();
+  T qnan = nan<T>();
   out.distance = plume::select(failed, qnan, out.distance);
   out.point_a = GVec3<T>::select(failed, GVec3<T>::splat(qnan), out.point_a);
   out.point_b = GVec3<T>::select(failed, GVec3<T>::splat(qnan), out.point_b);
@@ -352,31 +357,31 @@ PLUME_FLATTEN GShapeCastHit<T>
 shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const& b,
            GIso3<T> const& pose_b, ShapeCastConfig const& cfg = {}) noexcept {
   using S = scalar_t<T>;
-  T const z = zero<T>();
+  T z = zero<T>();
   detail::placed<A, T> const sa{a, pose_a};
   detail::placed<B, T> const sb{b, pose_b};
-  T const ra = a.core_radius(), rb = b.core_radius();
-  T const radius = (ra + rb) + splat<T>(S(cfg.target_distance));
-  mask_t<T> const good_input = (pose_a.is_finite() & pose_b.is_finite()) &
-                               (detail::finite3(motion_a) & plume::is_finite(radius));
-  mask_t<T> const bad_input = !good_input;
+  T ra = a.core_radius(), rb = b.core_radius();
+  T radius = (ra + rb) + splat<T>(S(cfg.target_distance));
+  mask_t<T> good_input = (pose_a.is_finite() & pose_b.is_finite()) &
+                         (detail::finite3(motion_a) & plume::is_finite(radius));
+  mask_t<T> bad_input = !good_input;
   // The ray t * motion_a against D = B - A, from a direction pointing from D to the origin.
-  detail::cast_state<T> const c =
+  detail::cast_state<T> c =
       detail::gjk_cast(sa, sb, GVec3<T>{}, motion_a, splat<T>(S(cfg.max_toi)), radius,
                        pose_a.translation - pose_b.translation, bad_input, cfg.gjk);
   GShapeCastHit<T> out;
-  GVec3<T> const n = -detail::unit_or_zero(c.n); // c.n points out of D = B - A: from B to A
+  GVec3<T> n = -detail::unit_or_zero(c.n); // c.n points out of D = B - A: from B to A
   // Starting within reach: the normal is the current separation direction (none if the
   // cores overlap).
-  GVec3<T> const sep = -detail::unit_or_zero(c.pa - c.pb);
-  GVec3<T> const normal =
+  GVec3<T> sep = -detail::unit_or_zero(c.pa - c.pb);
+  GVec3<T> normal =
       GVec3<T>::select(c.cores_overlap, GVec3<T>{}, GVec3<T>::select(c.started_inside, sep, n));
-  mask_t<T> const separating = c.started_inside & (!c.cores_overlap) & (normal.dot(motion_a) < z);
-  mask_t<T> const ignore = cfg.stop_at_penetration ? mask_t<T>(false) : separating;
+  mask_t<T> separating = c.started_inside & (!c.cores_overlap) & (normal.dot(motion_a) < z);
+  mask_t<T> ignore = cfg.stop_at_penetration ? mask_t<T>(false) : separating;
   out.hit = c.hit & (!ignore);
   out.toi = plume::select(out.hit, c.toi, infinity<T>());
   out.normal = GVec3<T>::select(out.hit, normal, GVec3<T>{});
-  GVec3<T> const moved = motion_a * c.toi;
+  GVec3<T> moved = motion_a * c.toi;
   out.point_a = GVec3<T>::select(out.hit, c.pa + moved + out.normal * ra, GVec3<T>{});
   out.point_b = GVec3<T>::select(out.hit, c.pb - out.normal * rb, GVec3<T>{});
   out.failed = c.failed;
@@ -397,15 +402,15 @@ template <Real T, ConvexShape<T> Shape>
 PLUME_FLATTEN GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, GRay3<T> const& ray,
                                       T max_toi, bool solid = true,
                                       GjkConfig const& cfg = {}) noexcept {
-  T const z = zero<T>();
-  detail::origin_support<T> const none{};
+  T z = zero<T>();
+  detail::origin_support<T> none{};
   detail::placed<Shape, T> const sb{shape, pose};
-  T const radius = shape.core_radius();
-  mask_t<T> const good_input = (pose.is_finite() & detail::finite3(ray.origin)) &
-                               (detail::finite3(ray.dir) & plume::is_finite(radius));
-  mask_t<T> const bad_input = (!good_input) | plume::is_nan(max_toi);
-  detail::cast_state<T> const c = detail::gjk_cast(none, sb, ray.origin, ray.dir, max_toi, radius,
-                                                   ray.origin - pose.translation, bad_input, cfg);
+  T radius = shape.core_radius();
+  mask_t<T> good_input = (pose.is_finite() & detail::finite3(ray.origin)) &
+                         (detail::finite3(ray.dir) & plume::is_finite(radius));
+  mask_t<T> bad_input = (!good_input) | plume::is_nan(max_toi);
+  detail::cast_state<T> c = detail::gjk_cast(none, sb, ray.origin, ray.dir, max_toi, radius,
+                                             ray.origin - pose.translation, bad_input, cfg);
   GRayHit<T> out;
   out.feature = -one<T>(); // polytope views have no faces: unknown
   out.hit = c.hit & (!c.failed);
@@ -415,20 +420,20 @@ PLUME_FLATTEN GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, 
   if (!solid) {
     // From inside, the exit point: cast back from beyond the shape (its bounding sphere
     // around the start point) toward the origin.
-    mask_t<T> const inside = out.hit & c.started_inside;
+    mask_t<T> inside = out.hit & c.started_inside;
     if (plume::any(inside)) {
-      GAabb3<T> const box = shape.local_aabb();
-      T const span = (box.max - box.min).length() + radius * two<T>() +
-                     (ray.origin - pose.translation).length() * two<T>();
-      T const dl = plume::sqrt(ray.dir.dot(ray.dir));
-      T const back = span / plume::select(dl > z, dl, one<T>()); // in units of dir
-      GVec3<T> const far = ray.at(back);
-      detail::cast_state<T> const e =
+      GAabb3<T> box = shape.local_aabb();
+      T span = (box.max - box.min).length() + radius * two<T>() +
+               (ray.origin - pose.translation).length() * two<T>();
+      T dl = plume::sqrt(ray.dir.dot(ray.dir));
+      T back = span / plume::select(dl > z, dl, one<T>()); // in units of dir
+      GVec3<T> far = ray.at(back);
+      detail::cast_state<T> e =
           detail::gjk_cast(none, sb, far, -ray.dir, back, radius, far - pose.translation,
                            bad_input | (!inside) | (dl == z), cfg);
-      T const exit = back - e.toi;
-      mask_t<T> const found = inside & e.hit & (!e.started_inside);
-      mask_t<T> const in_range = exit <= max_toi;
+      T exit = back - e.toi;
+      mask_t<T> found = inside & e.hit & (!e.started_inside);
+      mask_t<T> in_range = exit <= max_toi;
       out.hit = (out.hit & (!inside)) | (found & in_range);
       out.toi =
           plume::select(inside, plume::select(found & in_range, exit, infinity<T>()), out.toi);

@@ -14,6 +14,7 @@
 // point of a simplex lies in the relative interior of exactly one face, where it equals that
 // projection, and every other valid projection is a point of the simplex, so no nearer. Flat
 // faces (area or volume below a relative epsilon) are skipped; their edges stand in for them.
+// Locals are not const, for the reason gjk.hpp gives.
 #pragma once
 
 #include <plume/math/vec3.hpp>
@@ -51,10 +52,10 @@ struct simplex_step {
 template <Real T>
 PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_vertex<T> const& w,
                                                 GVec3<T> const& x) noexcept {
-  T const z = zero<T>();
-  T const eps = epsilon<T>();
-  GVec3<T> const y0 = x - w.p;
-  std::array<GVec3<T>, 3> const y{x - s.v[0].p, x - s.v[1].p, x - s.v[2].p};
+  T z = zero<T>();
+  T eps = epsilon<T>();
+  GVec3<T> y0 = x - w.p;
+  std::array<GVec3<T>, 3> y{x - s.v[0].p, x - s.v[1].p, x - s.v[2].p};
 
   // The point {w}: always valid.
   simplex_step<T> best;
@@ -64,8 +65,8 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
   mask_t<T> chosen_member[3] = {mask_t<T>(false), mask_t<T>(false), mask_t<T>(false)};
   T best_d2 = y0.dot(y0);
 
-  auto const take = [&](mask_t<T> better, GVec3<T> const& v, std::array<T, 4> const& l,
-                        std::array<bool, 3> members) {
+  auto take = [&](mask_t<T> better, GVec3<T> const& v, std::array<T, 4> const& l,
+                  std::array<bool, 3> members) {
     best.v = GVec3<T>::select(better, v, best.v);
     for (std::size_t k = 0; k < 4; ++k)
       best.lambda[k] = plume::select(better, l[k], best.lambda[k]);
@@ -76,12 +77,12 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
 
   // Edges {w, i}: t = -y0 . e / e . e with e = y_i - y0, valid for 0 < t < 1.
   for (std::size_t i = 0; i < 3; ++i) {
-    GVec3<T> const e = y[i] - y0;
-    T const ee = e.dot(e);
-    T const num = -y0.dot(e);
-    mask_t<T> const ok = s.present[i] & (ee > z) & (num > z) & (num < ee);
-    T const t = num / plume::select(ok, ee, one<T>());
-    GVec3<T> const v = y0 + e * t;
+    GVec3<T> e = y[i] - y0;
+    T ee = e.dot(e);
+    T num = -y0.dot(e);
+    mask_t<T> ok = s.present[i] & (ee > z) & (num > z) & (num < ee);
+    T t = num / plume::select(ok, ee, one<T>());
+    GVec3<T> v = y0 + e * t;
     std::array<T, 4> l{one<T>() - t, z, z, z};
     l[i + 1] = t;
     std::array<bool, 3> m{false, false, false};
@@ -94,19 +95,19 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
   constexpr std::size_t pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
   for (auto const& pr : pairs) {
     std::size_t const i = pr[0], j = pr[1];
-    GVec3<T> const ei = y[i] - y0, ej = y[j] - y0;
-    GVec3<T> const n = ei.cross(ej);
-    T const nn = n.dot(n);
-    mask_t<T> const flat = nn <= eps * (ei.dot(ei) * ej.dot(ej));
-    T const rn = one<T>() / plume::select(flat, one<T>(), nn);
-    T const lw = y[i].cross(y[j]).dot(n) * rn;
-    T const li = y[j].cross(y0).dot(n) * rn;
-    T const lj = y0.cross(y[i]).dot(n) * rn;
-    mask_t<T> const ok = s.present[i] & s.present[j] & (!flat) & (lw > z) & (li > z) & (lj > z);
+    GVec3<T> ei = y[i] - y0, ej = y[j] - y0;
+    GVec3<T> n = ei.cross(ej);
+    T nn = n.dot(n);
+    mask_t<T> flat = nn <= eps * (ei.dot(ei) * ej.dot(ej));
+    T rn = one<T>() / plume::select(flat, one<T>(), nn);
+    T lw = y[i].cross(y[j]).dot(n) * rn;
+    T li = y[j].cross(y0).dot(n) * rn;
+    T lj = y0.cross(y[i]).dot(n) * rn;
+    mask_t<T> ok = s.present[i] & s.present[j] & (!flat) & (lw > z) & (li > z) & (lj > z);
     // v along the face normal n (not the weighted sum of the y's): its direction then comes
     // from the edges alone, accurate even when |v| is tiny next to the coordinates (a ray point
     // a hair off a 1,000 m face), where the weighted sum is all cancellation noise.
-    GVec3<T> const v = n * (y0.dot(n) * rn);
+    GVec3<T> v = n * (y0.dot(n) * rn);
     std::array<T, 4> l{lw, z, z, z};
     l[i + 1] = li;
     l[j + 1] = lj;
@@ -117,17 +118,17 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
 
   // The tetrahedron: the origin inside when its four barycentric weights are positive.
   {
-    GVec3<T> const e0 = y[0] - y0, e1 = y[1] - y0, e2 = y[2] - y0;
-    T const det = e0.dot(e1.cross(e2));
-    T const scale = (e0.dot(e0) * e1.dot(e1)) * e2.dot(e2);
-    mask_t<T> const flat = det * det <= eps * scale;
-    T const rd = one<T>() / plume::select(flat, one<T>(), det);
-    T const l0 = -y0.dot(e1.cross(e2)) * rd;
-    T const l1 = -e0.dot(y0.cross(e2)) * rd; // e0 . ((0 - y0) x e2)
-    T const l2 = -e0.dot(e1.cross(y0)) * rd; // e0 . (e1 x (0 - y0))
-    T const lw = (one<T>() - l0 - l1) - l2;
-    mask_t<T> const ok = (s.present[0] & s.present[1]) & (s.present[2] & (!flat)) &
-                         ((l0 > z) & (l1 > z)) & ((l2 > z) & (lw > z));
+    GVec3<T> e0 = y[0] - y0, e1 = y[1] - y0, e2 = y[2] - y0;
+    T det = e0.dot(e1.cross(e2));
+    T scale = (e0.dot(e0) * e1.dot(e1)) * e2.dot(e2);
+    mask_t<T> flat = det * det <= eps * scale;
+    T rd = one<T>() / plume::select(flat, one<T>(), det);
+    T l0 = -y0.dot(e1.cross(e2)) * rd;
+    T l1 = -e0.dot(y0.cross(e2)) * rd; // e0 . ((0 - y0) x e2)
+    T l2 = -e0.dot(e1.cross(y0)) * rd; // e0 . (e1 x (0 - y0))
+    T lw = (one<T>() - l0 - l1) - l2;
+    mask_t<T> ok = (s.present[0] & s.present[1]) & (s.present[2] & (!flat)) &
+                   ((l0 > z) & (l1 > z)) & ((l2 > z) & (lw > z));
     take(ok, GVec3<T>{}, std::array<T, 4>{lw, l0, l1, l2}, {true, true, true});
     best.inside = ok;
   }
@@ -136,15 +137,15 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
   best.next.v[0] = w;
   best.next.present[0] = mask_t<T>(true);
   // Slot 1 takes the first chosen member, slot 2 the second, slot 3 the third.
-  mask_t<T> const c0 = chosen_member[0], c1 = chosen_member[1], c2 = chosen_member[2];
-  auto const pick = [](mask_t<T> m, simplex_vertex<T> const& a, simplex_vertex<T> const& b) {
+  mask_t<T> c0 = chosen_member[0], c1 = chosen_member[1], c2 = chosen_member[2];
+  auto pick = [](mask_t<T> m, simplex_vertex<T> const& a, simplex_vertex<T> const& b) {
     return simplex_vertex<T>{GVec3<T>::select(m, a.p, b.p), GVec3<T>::select(m, a.a, b.a),
                              GVec3<T>::select(m, a.b, b.b)};
   };
   best.next.v[1] = pick(c0, s.v[0], pick(c1, s.v[1], s.v[2]));
   best.next.present[1] = (c0 | c1) | c2;
-  mask_t<T> const second_is_1 = c0 & c1;
-  mask_t<T> const second_is_2 = (c0 | c1) & c2;
+  mask_t<T> second_is_1 = c0 & c1;
+  mask_t<T> second_is_2 = (c0 | c1) & c2;
   best.next.v[2] = pick(second_is_1, s.v[1], s.v[2]);
   best.next.present[2] = second_is_1 | second_is_2;
   // (When the origin is inside, the third member is dropped: the query stops there.)
