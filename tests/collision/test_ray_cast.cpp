@@ -663,6 +663,86 @@ TEST_CASE("ray hits name the feature they hit", "[collision][ray]") {
 }
 
 #if PLUME_HAS_BATCHES
+TEMPLATE_LIST_TEST_CASE("triangle casts are lane-exact, on shared edges and vertices too",
+                        "[collision][ray][lanes]", wide_real_types) {
+  // The triangle cast takes a branch for a whole batch when any lane has an edge function
+  // exactly zero (a ray through an edge or a vertex): that lane is recomputed in double and
+  // decided by edge ownership, and the others must come out as if cast alone. Lanes here mix
+  // rays of a grid through a fan's shared edges and vertex with random rays, in coordinates
+  // permuted per lane (so the dominant axis and its sign differ between lanes), with
+  // degenerate triangles and non-finite rays in some lanes.
+  using T = TestType;
+  using S = scalar_t<T>;
+  constexpr std::size_t L = lanes_v<T>;
+  constexpr int K = 8;
+  GVec3<S> const centre{S(0.125), S(-0.0625), S(0.25)};
+  std::vector<GTriangle<S>> fan;
+  for (int k = 0; k < K; ++k) {
+    double const a0 = 6.283185307179586 * k / K, a1 = 6.283185307179586 * (k + 1) / K;
+    fan.push_back({centre, GVec3<S>{S(std::cos(a0)), S(std::sin(a0)), S(0.25)},
+                   GVec3<S>{S(std::cos(a1)), S(std::sin(a1)), S(0.25)}});
+  }
+  // Lane coordinates: a cyclic permutation and a sign per lane, applied to triangle and ray
+  // alike (both exact, so a ray through an edge still passes through it exactly).
+  auto const move = [](GVec3<S> v, std::size_t m) {
+    GVec3<S> const p = m % 3 == 0   ? v
+                       : m % 3 == 1 ? GVec3<S>{v.y, v.z, v.x}
+                                    : GVec3<S>{v.z, v.x, v.y};
+    return (m / 3) % 2 ? -p : p;
+  };
+  rng r(17);
+  auto const same_hit = [](auto const& a, auto const& b) {
+    return same(a.toi, b.toi) && same(a.normal, b.normal) && a.hit == b.hit &&
+           same(a.feature, b.feature);
+  };
+  S const inf = infinity<S>();
+  int failures = 0, edge_lanes = 0, batches = 0;
+  for (int i = -48; i <= 48; i += 3)
+    for (int j = -48; j <= 48; j += 2) {
+      for (int tri_k = 0; tri_k < K; tri_k += 3) {
+        std::array<GTriangle<S>, L> tris;
+        std::array<GRay3<S>, L> rays;
+        std::array<S, L> limits;
+        for (std::size_t l = 0; l < L; ++l) {
+          std::size_t const m = std::size_t(i + j) * 7 + l * 5;
+          GTriangle<S> t = fan[std::size_t(tri_k + int(l)) % K];
+          // A grid ray (multiples of 1/64 pass exactly through the centre vertex and along
+          // the spokes) on most lanes, a random one on every third batch's lane 1.
+          GVec3<S> o{S(i) / 64, S(j) / 64, 2}, d{0, 0, -1};
+          if (batches % 3 == 0 && l == 1) o = r.vec3<S>(-1, 1), d = r.unit3<S>();
+          if (l == 2 && batches % 5 == 0) t = {t.a, t.b, t.a + (t.b - t.a) * S(2)}; // collinear
+          if (l == 3 && batches % 7 == 0) d.x = nan<S>();
+          if (l + 1 == L && batches % 4 == 0) o = centre + GVec3<S>{0, 0, 1}; // the shared vertex
+          tris[l] = {move(t.a, m), move(t.b, m), move(t.c, m)};
+          rays[l] = {move(o, m), move(d, m)};
+          limits[l] = l % 2 ? inf : S(3);
+          edge_lanes += (o.x == centre.x && o.y == centre.y) || i == 0 || j == 0;
+        }
+        ++batches;
+        GVec3<T> a, b, c, o, d;
+        T limit{};
+        for (std::size_t l = 0; l < L; ++l) {
+          a = with_lane(a, l, tris[l].a), b = with_lane(b, l, tris[l].b);
+          c = with_lane(c, l, tris[l].c);
+          o = with_lane(o, l, rays[l].origin), d = with_lane(d, l, rays[l].dir);
+          limit = with_lane(limit, l, limits[l]);
+        }
+        auto const w = ray_cast_local(GTriangle<T>{a, b, c}, GRay3<T>{o, d}, limit);
+        for (std::size_t l = 0; l < L; ++l) {
+          auto const s = ray_cast_local(tris[l], rays[l], limits[l]);
+          GRayHit<S> const wl{lane(w.hit, l), lane(w.toi, l), lane(w.normal, l),
+                              lane(w.feature, l)};
+          if (!same_hit(wl, s) && failures++ < 5)
+            FAIL_CHECK("lane " << l << ": wide " << wl.hit << " " << wl.toi << " " << wl.normal
+                               << " scalar " << s.hit << " " << s.toi << " " << s.normal);
+        }
+      }
+    }
+  INFO(batches << " batches, " << edge_lanes << " lanes on an axis or the vertex");
+  CHECK(edge_lanes > 100);
+  CHECK(failures == 0);
+}
+
 TEMPLATE_LIST_TEST_CASE("every ray cast is lane-exact", "[collision][ray][lanes]",
                         wide_real_types) {
   using T = TestType;
