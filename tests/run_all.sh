@@ -10,7 +10,8 @@
 #    a clang build (avx2), tests and benchmarks;
 # 4. the cross-build determinism check: every deterministic build that ran (g++ and clang)
 #    must print the same golden hashes (each also compares with tests/determinism/golden.txt);
-# 5. every benchmark binary of every variant, once, with a tiny time budget.
+# 5. every benchmark binary of every variant, once, with a tiny time budget;
+# 6. the generated code of the hot wide kernels (tools/kernel_loops.py): no calls out of line.
 # Build folders: build/ci-<variant>. Exit status 0 only if everything passed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -100,6 +101,15 @@ for v in "${variants[@]}" clang-avx2; do
     echo "bench: $b"
     "$b" --benchmark_min_time=0.001 --benchmark_format=json >"$b.smoke.json" || failed+=("$b")
   done
+done
+
+step "kernel loops: the generated code of the hot kernels"
+# Instructions, stack references and calls per iteration of each hot wide kernel, compiled
+# with the avx2 and avx512 builds' flags; a wide kernel that calls out of line fails.
+for v in avx2 avx512; do
+  [ -f "build/ci-$v/build.ninja" ] || continue
+  echo "kernel loops: $v"
+  python3 tools/kernel_loops.py "build/ci-$v" --no-calls || failed+=("kernel loops $v")
 done
 
 step "done"
