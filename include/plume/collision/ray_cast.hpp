@@ -580,8 +580,8 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
   using S = scalar_t<T>;
   T const z = zero<T>();
   V const& d = ray.dir;
-  // The normal and the ray's validity first: they need the vertices and the ray, which are
-  // then dead (with AVX2's 16 registers, keeping them for the end spilled them).
+  // The normal and the ray's validity first, so that the vertices and the ray need not stay
+  // live to the end for them (with AVX2's 16 registers they were spilled there).
   V const n = detail::unit_or_zero(tri.scaled_normal());
   M const back = n.dot(d) > z; // coming from behind: the back face
   V const facing = V::select(back, -n, n);
