@@ -50,8 +50,8 @@ done
 
 step "sanitizers (address, undefined): build"
 # -O0 -g1: optimising the sanitizers' instrumentation of the lane-exactness tests takes ten
-# times longer (over 8 minutes per math test file at -O1 on 2 cores); plume's
-# always_inline kernels are still inlined at -O0, and -g1 keeps line numbers in reports.
+# times longer (over 8 minutes per math test file at -O1 on 2 cores); at -O0 PLUME_INLINE
+# does not force inlining (config.hpp), and -g1 keeps line numbers in reports.
 if configure_build build/ci-sanitize -DPLUME_SIMD=avx2 -DPLUME_BUILD_BENCH=OFF \
   -DPLUME_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O0 -g1"; then
   step "sanitizers: tests"
