@@ -1,11 +1,12 @@
 // plume/config.hpp - facts of this build, derived from the definitions and flags that the
 // plume::config CMake target passes to every translation unit that uses plume.
 //
-//   PLUME_HAS_SSE2 / PLUME_HAS_AVX2 / PLUME_HAS_AVX512   1 when that width family is enabled
-//   PLUME_SIMD_NAME                                     "scalar", "sse2", "avx2", "avx512",
-//   "native" PLUME_DETERMINISTIC                                 1: results are identical across
-//   builds PLUME_FMA                                           1: mul_add is fused (implies
-//   !DETERMINISTIC)
+//   PLUME_HAS_SSE2, PLUME_HAS_AVX2, PLUME_HAS_AVX512: 1 when that width family is enabled.
+//   PLUME_SIMD_NAME: "scalar", "sse2", "avx2", "avx512" or "native".
+//   PLUME_DETERMINISTIC: 1 when results are identical across builds.
+//   PLUME_FMA: 1 when mul_add is fused (implies PLUME_DETERMINISTIC 0).
+//
+// Compiling with -ffast-math is an error (tests/fast_math_guard.cpp checks that it is).
 #pragma once
 
 #if defined(__FAST_MATH__)
