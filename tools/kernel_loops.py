@@ -91,7 +91,7 @@ def main():
         found = loops(obj)
     if not found:
         sys.exit('no k_ functions found')
-    bad = []
+    bad, shown = [], None
     print(f'{"kernel":24s} {"instructions":>12s} {"stack refs":>10s} {"calls":>5s}')
     for f in sorted(found, key=lambda f: (f.rsplit('_x', 1)[0], int(f.rsplit('_x', 1)[1]))):
         body = found[f]
@@ -104,7 +104,7 @@ def main():
         if a.show and f == 'k_' + a.show:
             shown = body
     if a.show:
-        if 'shown' not in locals():
+        if shown is None:
             sys.exit(f'no kernel {a.show}')
         for addr, op, args in shown:
             print(f'{addr:6x}  {op:10s} {args}')
