@@ -178,4 +178,35 @@ TEST_CASE("penetration: closed forms, rounded shapes, fallbacks, bad input", "[c
   auto const full = penetration(ball, Iso3{}, ball, Iso3::from_translation({0.3f, 0.1f, 0}));
   CHECK(full.status == PenetrationStatus::penetrating);
   CHECK(approx.depth <= full.depth + 1e-5f);
+  // Any cap, down to none at all (the initial tetrahedron's first face, which need not face
+  // the origin): overlapping shapes get a depth in [0, the full depth], never negative.
+  for (int cap = 0; cap < 4; ++cap) {
+    capped.max_iterations = cap;
+    for (Vec3 const at : {Vec3{0.3f, 0.1f, 0}, Vec3{-1.2f, 0.5f, 0.2f}, Vec3{0, 0, 1.6f}}) {
+      auto const c = penetration(ball, Iso3{}, ball, Iso3::from_translation(at), capped);
+      auto const f = penetration(ball, Iso3{}, ball, Iso3::from_translation(at));
+      INFO("cap " << cap << ", offset " << at);
+      CHECK(c.depth >= 0);
+      CHECK(c.depth <= f.depth + 1e-5f);
+      CHECK(std::abs(c.normal.length() - 1) < 1e-5f);
+    }
+  }
+}
+
+TEST_CASE("penetration: a flat difference's normal points from A toward B", "[collision][epa]") {
+  // Coplanar overlapping triangles (world y = 0) whose poses sit above or below the plane:
+  // the cores' difference is flat, so the depth is 0 and the normal is the plane's, oriented
+  // along the poses' offset from A toward B; with no offset along it, either sign is allowed.
+  Triangle const ta{{-1, 0, -1}, {1, 0, -1}, {0, 0, 1}};
+  for (float side : {1.0f, -1.0f}) {
+    Triangle const tb{{-1, -side, 1}, {1, -side, 1}, {0, -side, -1}}; // at y = 0 when placed
+    auto const p = penetration(ta, Iso3{}, tb, Iso3::from_translation({0.1f, side, 0}));
+    INFO("B's pose at y = " << side);
+    CHECK(p.status == PenetrationStatus::penetrating);
+    CHECK(p.depth == Approx(0).margin(1e-6));
+    CHECK(p.normal.y == Approx(side).margin(1e-6));
+    // Swapped: the normal still points from the first shape toward the second.
+    auto const q = penetration(tb, Iso3::from_translation({0.1f, side, 0}), ta, Iso3{});
+    CHECK(q.normal.y == Approx(-side).margin(1e-6));
+  }
 }

@@ -189,18 +189,24 @@ GPenetrationResult<S> penetration(A const& a, GIso3<S> const& pose_a, B const& b
   if (!ok) return flat_fallback(pn, ext[i0]);
 
   S const tol = S(cfg.tolerance);
-  int best_face = 0;
-  typename detail::epa_polytope<S>::face chosen = poly.faces[0];
+  // The live face nearest to the origin (smallest signed distance: a negative one means the
+  // origin is still outside it, and expanding it grows the polytope over the origin); -1 if
+  // none. Its distance is a lower bound of the depth wherever the polytope holds the origin
+  // (the polytope lies in D), which is why a capped result reports the nearest face.
+  auto const nearest_face = [&poly] {
+    int near = -1;
+    for (int f = 0; f < poly.nf; ++f)
+      if (poly.faces[std::size_t(f)].alive &&
+          (near < 0 || poly.faces[std::size_t(f)].d < poly.faces[std::size_t(near)].d))
+        near = f;
+    return near;
+  };
+  int best_face = nearest_face(); // the tetrahedron's faces are all alive: >= 0
+  typename detail::epa_polytope<S>::face chosen = poly.faces[std::size_t(best_face)];
   PenetrationStatus status = PenetrationStatus::approximate;
   int it = 0;
   for (; it < cfg.max_iterations; ++it) {
-    // The live face nearest to the origin (smallest signed distance: a negative one means the
-    // origin is still outside it, and expanding it grows the polytope over the origin).
-    best_face = -1;
-    for (int f = 0; f < poly.nf; ++f)
-      if (poly.faces[std::size_t(f)].alive &&
-          (best_face < 0 || poly.faces[std::size_t(f)].d < poly.faces[std::size_t(best_face)].d))
-        best_face = f;
+    best_face = nearest_face();
     if (best_face < 0) break;
     chosen = poly.faces[std::size_t(best_face)]; // kept: expanding kills it
     auto const& bf = chosen;
