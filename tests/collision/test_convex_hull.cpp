@@ -244,6 +244,23 @@ TEST_CASE("mass properties: closed forms, slices, hulls, parallel axes", "[colli
   CHECK(both.mass == Approx(whole.mass));
   CHECK(both.center.length() < 1e-6f);
   CHECK(both.inertia.abs_diff_eq(whole.inertia, 1e-5f * whole.inertia.x_axis.x));
+  // Unequal parts (x in [-1, 0.5] and [0.5, 1]), combined in either order: the same box.
+  MassProperties const big = Cuboid{{0.75f, 1, 1}}.mass_properties(rho).transformed(
+      Iso3::from_translation({-0.25f, 0, 0}));
+  MassProperties const small =
+      Cuboid{{0.25f, 1, 1}}.mass_properties(rho).transformed(Iso3::from_translation({0.75f, 0, 0}));
+  for (auto const& u : {big.combine(small), small.combine(big)}) {
+    CHECK(u.mass == Approx(whole.mass));
+    CHECK(u.center.length() < 1e-6f);
+    CHECK(u.inertia.abs_diff_eq(whole.inertia, 1e-5f * whole.inertia.x_axis.x));
+  }
+  // Two massless parts: mass 0, centre at their midpoint, no inertia.
+  MassProperties const line_a = Segment{{0, 0, 0}, {2, 0, 0}}.mass_properties(rho);
+  MassProperties const line_b = Segment{{0, 4, 0}, {0, 6, 0}}.mass_properties(rho);
+  auto const lines = line_a.combine(line_b);
+  CHECK(lines.mass == 0);
+  CHECK((lines.center - Vec3{0.5f, 2.5f, 0}).length() < 1e-6f);
+  CHECK(lines.inertia.abs_diff_eq(Mat3::ZERO, 0.0f));
   // A rotated box: R I R^T, still symmetric, same trace.
   auto const turned = Cuboid{e}.mass_properties(rho).transformed(
       Iso3::from_rotation(Quat::from_axis_angle(Vec3{1, 1, 0}.normalize(), 0.6f)));

@@ -159,6 +159,27 @@ TEST_CASE("manifold: speculative points, apart, ids that persist", "[collision][
     k2.insert(c.id);
   CHECK(c1.count == 4);
   CHECK(k1 == k2);
+  // A box wobbling on a slab by 1e-4 rad: the slab's face then separates the pair by 1.5 x
+  // the tilt more than the box's own face (up to 3e-4 here), less than the reference face's
+  // hysteresis (0.1 x prediction = 2e-3), so the box's face stays the reference and the ids
+  // persist (a reference flipping from frame to frame would lose the solver's warm start).
+  Cuboid const slab{{2, 0.5f, 2}};
+  Iso3 const slab_pose = at({0, -0.5f, 0});
+  std::set<std::uint64_t> flat_ids;
+  for (auto const& c : contact_manifold(box, at({0.2f, 0.49f, 0}), slab, slab_pose))
+    flat_ids.insert(c.id);
+  CHECK(flat_ids.size() == 4);
+  for (float wobble : {1e-4f, -1e-4f, 2e-4f}) {
+    for (Quat const q : {Quat::from_rotation_x(wobble), Quat::from_rotation_z(wobble)}) {
+      auto const w = contact_manifold(box, at({0.2f, 0.49f, 0}, q), slab, slab_pose);
+      check_manifold(w);
+      std::set<std::uint64_t> ids;
+      for (auto const& c : w)
+        ids.insert(c.id);
+      CHECK(ids == flat_ids);
+      CHECK((w.normal - q * Vec3{0, -1, 0}).length() < 1e-6f); // the box's face, not the slab's
+    }
+  }
   // NaN pose: failed, no points.
   float const nan = std::numeric_limits<float>::quiet_NaN();
   auto const bad = contact_manifold(box, at({nan, 0, 0}), ground, ground_pose);
@@ -269,7 +290,9 @@ TEST_CASE("manifold: half-spaces, triangles and the 4-point reduction", "[collis
                                .y);
   };
   float const area = std::max({diag(0, 1, 2, 3), diag(0, 2, 1, 3), diag(0, 1, 3, 2)});
-  CHECK(area > 1.5f);
+  // Deepest at +z (the tilt), farthest from it at -z, the largest triangle adds +-x, and the
+  // point most outside that triangle is the other of +-x: the inscribed square, area 2.
+  CHECK(area == Approx(2).margin(1e-4));
   // ... and the same puck on a box: the reference-face clipping path reduces too.
   auto const pb = contact_manifold(puck, puck_pose, Cuboid{{5, 1, 5}}, at({0, -1, 0}));
   check_manifold(pb);
