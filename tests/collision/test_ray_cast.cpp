@@ -215,6 +215,18 @@ TEST_CASE("ray casts: inside, surface, parallel, zero and non-finite input", "[c
     CHECK(ray_cast_local(s, Ray3{{1, 0, 0}, {1, 0, 0}}, inf).toi == 0); // solid: inside
     auto const in = ray_cast_local(s, Ray3{{1, 0, 0}, {-1, 0, 0}}, inf, false);
     CHECK(in.toi == 2); // hollow: across to the far side
+    // Hollow, along the tangent plane: both roots are 0 (q = 0 in the robust form, where
+    // c / q would be 0 / 0), so the ray leaves at once, through the surface it starts on.
+    for (Vec3 const o : {Vec3{1, 0, 0}, Vec3{0, -1, 0}}) {
+      Vec3 const along = o.any_orthonormal_vector();
+      auto const t = ray_cast_local(s, Ray3{o, along}, inf, false);
+      CHECK(t.hit);
+      CHECK(t.toi == 0);
+      CHECK((t.normal.x == o.x && t.normal.y == o.y && t.normal.z == o.z));
+      auto const side = ray_cast_local(Cylinder{1, 1}, Ray3{o.x != 0 ? o : Vec3{0, 0, 1}, Vec3::Y},
+                                       inf, false); // on the side, along it: the top cap
+      CHECK(side.toi == 1);
+    }
     CHECK(ray_cast_local(box, Ray3{{1, 0, 0}, {1, 0, 0}}, inf).hit);
   }
   SECTION("box: a solid cast whose entry time rounds to 0 starts in contact") {
@@ -638,6 +650,28 @@ TEST_CASE("ray hits name the feature they hit", "[collision][ray]") {
       CHECK(ray_cast_local(box, Ray3{{}, out}, inf, false).feature == want); // leaving
       CHECK(ray_cast(Aabb3{{-1, -2, -3}, {1, 2, 3}}, Ray3{out, -out}, inf).feature == want);
     }
+  // Exactly on an edge or a corner (the crossings tie): the first axis's face and normal,
+  // entering and leaving (the box is a cube here, so the ties are exact).
+  Cuboid const cube{{1, 1, 1}};
+  struct tie {
+    Vec3 dir;
+    int axis;
+  };
+  for (tie const t : {tie{{1, 1, 0}, 0}, tie{{0, 1, 1}, 1}, tie{{1, 0, 1}, 0}, tie{{1, 1, 1}, 0},
+                      tie{{-1, 1, -1}, 0}, tie{{0, -1, -1}, 1}}) {
+    INFO("direction " << t.dir);
+    float const c[3] = {t.dir.x, t.dir.y, t.dir.z};
+    float const sgn = c[t.axis] > 0 ? 1.0f : -1.0f;
+    auto const equal = [](Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
+    auto const in = ray_cast_local(cube, Ray3{t.dir * -3.0f, t.dir}, inf);
+    CHECK(in.toi == 2);
+    CHECK(in.feature == float(2 * t.axis + (sgn > 0 ? 0 : 1)));
+    CHECK(equal(in.normal, axes[t.axis] * -sgn));
+    auto const out = ray_cast_local(cube, Ray3{{}, t.dir}, inf, false);
+    CHECK(out.toi == 1);
+    CHECK(out.feature == float(2 * t.axis + (sgn > 0 ? 1 : 0)));
+    CHECK(equal(out.normal, axes[t.axis] * sgn));
+  }
   CHECK(ray_cast_local(box, Ray3{{}, {1, 0, 0}}, inf).feature == -1);        // solid, inside
   CHECK(ray_cast_local(box, Ray3{{5, 5, 5}, {1, 0, 0}}, inf).feature == -1); // miss
   // Capsules: side, upper end, lower end.

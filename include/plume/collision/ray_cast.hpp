@@ -34,6 +34,8 @@
 //  - feature: the part of the shape hit, where the shape has parts, -1 on a miss or a solid
 //    hit from inside: cuboids and AABBs 0..5 = the -x, +x, -y, +y, -z, +z face; capsules
 //    0 side, 1 upper end (+y), 2 lower end; cylinders 0 side, 1 top cap, 2 bottom cap;
+//    a box hit exactly on an edge or a corner takes the face of the first of its axes
+//    (x, then y, then z), and so does its normal;
 //    triangles 0 front (the side (b - a) x (c - a) points to), 1 back; spheres and
 //    half-spaces 0. A number of type T, so that wide hits carry one per lane.
 //
