@@ -193,29 +193,36 @@ TEST_CASE("closest points: spheres and capsules against closed forms", "[collisi
 }
 
 TEST_CASE("closest points between polytopes against feature-pair brute force", "[collision][gjk]") {
+  // At 1 m and at 100 m: with coordinates near 100, float rounding keeps GJK's distance from
+  // meeting the tolerances, and only the no-progress stop ends some of these queries.
   rng r(22);
-  double worst = 0;
-  int separated = 0;
-  for (int k = 0; k < 300; ++k) {
-    ConvexHull const a = random_hull(r, 12 + k % 20, 1), b = random_hull(r, 8 + k % 25, 1.5f);
-    Iso3 const pa = random_pose(r, 3), pb = random_pose(r, 3);
-    auto const cp = closest_points(a, pa, b, pb);
-    REQUIRE(cp.converged);
-    if (cp.overlap) continue;
-    ++separated;
-    double const want = polytope_distance(a, pa, b, pb);
-    double const err = std::abs(cp.distance - want);
-    worst = std::max(worst, err);
-    CHECK(err <= 2e-4 * (1 + want));
-    // The reported points are on (the surface of) their shapes: within the hull's planes.
-    for (auto const& f : a.faces())
-      CHECK(f.normal.dot(pa.inverse_transform_point(cp.point_a)) - f.offset <= 1e-4f);
-    for (auto const& f : b.faces())
-      CHECK(f.normal.dot(pb.inverse_transform_point(cp.point_b)) - f.offset <= 1e-4f);
-    CHECK(cp.iterations <= 20);
+  for (float scale : {1.0f, 100.0f}) {
+    double worst = 0;
+    int separated = 0;
+    for (int k = 0; k < 300; ++k) {
+      ConvexHull const a = random_hull(r, 12 + k % 20, scale),
+                       b = random_hull(r, 8 + k % 25, 1.5f * scale);
+      Iso3 const pa = random_pose(r, 3 * scale), pb = random_pose(r, 3 * scale);
+      auto const cp = closest_points(a, pa, b, pb);
+      INFO("scale " << scale << ", pair " << k);
+      REQUIRE(cp.converged);
+      CHECK(cp.iterations <= 20);
+      if (cp.overlap) continue;
+      ++separated;
+      double const want = polytope_distance(a, pa, b, pb);
+      double const err = std::abs(cp.distance - want);
+      worst = std::max(worst, err);
+      CHECK(err <= 2e-4 * (scale + want));
+      // The reported points are on (the surface of) their shapes: within the hull's planes.
+      for (auto const& f : a.faces())
+        CHECK(f.normal.dot(pa.inverse_transform_point(cp.point_a)) - f.offset <= 1e-4f * scale);
+      for (auto const& f : b.faces())
+        CHECK(f.normal.dot(pb.inverse_transform_point(cp.point_b)) - f.offset <= 1e-4f * scale);
+    }
+    CHECK(separated > 100);
+    WARN("polytope distance at scale " << scale << ": " << separated
+                                       << " separated pairs, worst error " << worst);
   }
-  CHECK(separated > 100);
-  WARN("polytope distance: " << separated << " separated pairs, worst error " << worst);
 }
 
 TEST_CASE("closest points: overlap, touching, warm starts, bad input", "[collision][gjk]") {
@@ -440,6 +447,63 @@ TEST_CASE("shape casts: skins, starting in contact, misses, bad input", "[collis
         Approx(3000).epsilon(1e-5));
 }
 
+TEST_CASE("casts stopped by the iteration cap report a conservative hit",
+          "[collision][gjk][cast]") {
+  // A sphere cast and a ray cast at a round 200-point hull take several iterations. Capped
+  // below that, they stop early and report a hit at a toi no later than the converged one (x
+  // never enters the swept set): a caller that stops there cannot pass through the hull.
+  rng r(5);
+  ConvexHull const round = random_hull(r, 200, 1);
+  Iso3 const from = Iso3::from_translation({4, 0.3f, -0.2f});
+  Vec3 const motion{-4, 0, 0};
+  ShapeCastConfig full;
+  full.max_toi = 2;
+  auto const ref = shape_cast(Sphere{0.25f}, from, motion, round, Iso3{}, full);
+  REQUIRE(ref.hit);
+  REQUIRE(ref.converged);
+  REQUIRE(ref.iterations > 3);
+  Ray3 const ray{from.translation, motion};
+  auto const ray_ref = ray_cast_gjk(round, Iso3{}, ray, 2.0f);
+  REQUIRE(ray_ref.hit);
+  // Passing the hull by: a miss when converged; capped, a conservative hit.
+  Vec3 const by{-4, 1.3f, 0};
+  REQUIRE(!shape_cast(Sphere{0.25f}, from, by, round, Iso3{}, full).hit);
+  for (int cap = 1; cap <= 3; ++cap) {
+    INFO("cap " << cap);
+    ShapeCastConfig cfg = full;
+    cfg.gjk.max_iterations = cap;
+    for (Vec3 const m : {motion, by}) {
+      auto const c = shape_cast(Sphere{0.25f}, from, m, round, Iso3{}, cfg);
+      CHECK(c.out_of_iterations);
+      CHECK(int(c.converged) + int(c.penetrating) + int(c.out_of_iterations) + int(c.failed) == 1);
+      CHECK(c.hit);
+      CHECK(c.toi >= 0);
+      if (m.y == motion.y) CHECK(c.toi <= ref.toi); // (the other motion has no time of impact)
+    }
+    auto const rc = ray_cast_gjk(round, Iso3{}, ray, 2.0f, true, cfg.gjk);
+    CHECK(rc.hit);
+    CHECK(rc.toi <= ray_ref.toi);
+  }
+}
+
+TEST_CASE("casts moving parallel to a face, outside it, miss", "[collision][gjk][cast]") {
+  // The separating direction is then perpendicular to the motion (v . r = 0 exactly): the
+  // motion never closes the gap, whatever the distance travelled.
+  ConvexHull const box = box_hull({1, 1, 1});
+  for (float gap : {0.5f, 1e-3f}) {
+    INFO("gap " << gap);
+    auto const rc = ray_cast_gjk(box, Iso3{}, Ray3{{-5, 1 + gap, 0}, {1, 0, 0}}, 100.0f);
+    CHECK(!rc.hit);
+    ShapeCastConfig cfg;
+    cfg.max_toi = 10;
+    auto const sc =
+        shape_cast(Cuboid{{0.5f, 0.5f, 0.5f}}, Iso3::from_translation({-5, 1.5f + gap, 0}),
+                   Vec3{1, 0, 0}, box, Iso3{}, cfg);
+    CHECK(!sc.hit);
+    CHECK(sc.converged);
+  }
+}
+
 TEST_CASE("GJK ray casts agree with the closed forms", "[collision][gjk][ray]") {
   rng r(41);
   int hits = 0;
@@ -611,9 +675,10 @@ TEMPLATE_LIST_TEST_CASE("GJK queries are lane-exact", "[collision][gjk][lanes]",
     ShapeCastConfig cfg;
     cfg.max_toi = 2;
     cfg.target_distance = k % 2 ? 0.05f : 0.0f;
+    if (k % 4 == 1) cfg.gjk.max_iterations = 2; // lanes capped beside lanes that finish
     auto const sc = shape_cast(GSphere<T>{radius}, pa, motion, wide, pb, cfg);
     GRay3<T> const ray{pa.translation, motion};
-    auto const rc = ray_cast_gjk(wide, pb, ray, splat<T>(S(3)), k % 3 != 0);
+    auto const rc = ray_cast_gjk(wide, pb, ray, splat<T>(S(3)), k % 3 != 0, cfg.gjk);
     for (std::size_t i = 0; i < lanes_v<T>; ++i) {
       GConvexPolytope<S> const hull = ph.lane_polytope(i);
       GIso3<S> const la = lane(pa, i), lb = lane(pb, i);
@@ -626,9 +691,11 @@ TEMPLATE_LIST_TEST_CASE("GJK queries are lane-exact", "[collision][gjk][lanes]",
       bool const ok_sc = same(scs.toi, lane(sc.toi, i)) && same(scs.normal, lane(sc.normal, i)) &&
                          same(scs.point_a, lane(sc.point_a, i)) && scs.hit == lane(sc.hit, i) &&
                          scs.penetrating == lane(sc.penetrating, i) &&
-                         scs.failed == lane(sc.failed, i);
-      auto const rcs =
-          ray_cast_gjk(hull, lb, GRay3<S>{la.translation, lane(motion, i)}, S(3), k % 3 != 0);
+                         scs.failed == lane(sc.failed, i) &&
+                         scs.out_of_iterations == lane(sc.out_of_iterations, i) &&
+                         scs.converged == lane(sc.converged, i);
+      auto const rcs = ray_cast_gjk(hull, lb, GRay3<S>{la.translation, lane(motion, i)}, S(3),
+                                    k % 3 != 0, cfg.gjk);
       bool const ok_rc = same(rcs.toi, lane(rc.toi, i)) && same(rcs.normal, lane(rc.normal, i)) &&
                          rcs.hit == lane(rc.hit, i);
       if (!(ok_cp && ok_sc && ok_rc) && failures++ < 5)

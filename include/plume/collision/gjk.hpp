@@ -98,8 +98,10 @@ struct GShapeCastHit {
   mask_t<T> converged; ///< a normal answer (hit or miss)
   mask_t<T>
       penetrating; ///< started within target_distance (toi 0); normal zero if the cores overlap
-  mask_t<T> out_of_iterations; ///< toi is a lower bound (conservative)
-  mask_t<T> failed;            ///< non-finite input: no hit
+  /// Stopped by the iteration cap: reported as a hit at a lower bound of the time of impact
+  /// (conservative: it may be a miss, never a later hit); normal and points where it stopped.
+  mask_t<T> out_of_iterations;
+  mask_t<T> failed; ///< non-finite input: no hit
   T iterations;
 };
 
@@ -249,8 +251,10 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
     active = active & (!(miss | done_hit | bad));
   }
   out.out_of_iterations = active;
-  // An unfinished lane keeps its (conservative) toi as a hit only if it advanced.
-  out.hit = out.hit & (!out.failed);
+  // An unfinished lane is a hit at its toi so far: x never enters D, so that toi is a lower
+  // bound of the time of impact (0 if x never advanced), and a caller that stops there cannot
+  // pass through B.
+  out.hit = (out.hit | active) & (!out.failed);
   return out;
 }
 
