@@ -101,6 +101,18 @@ TEST_CASE("support points and boxes at a pose", "[collision][shapes]") {
   CHECK(Cuboid{{1, 0, 1}}.aabb(Iso3::IDENTITY).max.y == 0);
   CHECK(Cylinder{1, 1}.support({0, 1, 0}).x == 0);
   CHECK(HalfSpace{{0, 1, 0}}.aabb(pose).max.x == std::numeric_limits<float>::infinity());
+  // Ties go the documented way (GJK's answers then do not depend on rounding noise): the
+  // positive side for zero components (+0 and -0), the upper end, the first vertex.
+  auto const equal = [](Vec3 a, Vec3 b) { return a.x == b.x && a.y == b.y && a.z == b.z; };
+  for (float zero : {0.0f, -0.0f}) {
+    CHECK(equal(box.support({zero, zero, zero}), box.half_extents));
+    CHECK(equal(box.support({-1, zero, 1}), Vec3{-1, 0.5f, 2}));
+    CHECK(equal(cap.support({1, zero, 0}), Vec3{0.5f, 0.75f, 0}));
+    CHECK(equal(cyl.support({zero, zero, 1}), Vec3{0, 0.75f, 0.5f}));
+    CHECK(equal(Segment{{0, 0, 0}, {0, 1, 0}}.support({1, zero, 0}), Vec3{0, 0, 0}));
+  }
+  CHECK(equal(Triangle{{0, 1, 0}, {0, 1, 1}, {0, 1, 2}}.support({0, 1, 0}), Vec3{0, 1, 0}));
+  CHECK(equal(Triangle{{0, 0, 0}, {0, 1, 1}, {0, 1, 2}}.support({0, 1, 0}), Vec3{0, 1, 1}));
   (void)r;
 }
 
