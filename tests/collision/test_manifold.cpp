@@ -180,6 +180,22 @@ TEST_CASE("manifold: speculative points, apart, ids that persist", "[collision][
       CHECK((w.normal - q * Vec3{0, -1, 0}).length() < 1e-6f); // the box's face, not the slab's
     }
   }
+  // The same as hulls (the GJK/EPA path, whose face choice has its own hysteresis).
+  ConvexHull const box_h = box_hull(box.half_extents), slab_h = box_hull(slab.half_extents);
+  std::set<std::uint64_t> flat_hull_ids;
+  for (auto const& c : contact_manifold(box_h, at({0.2f, 0.49f, 0}), slab_h, slab_pose))
+    flat_hull_ids.insert(c.id);
+  CHECK(flat_hull_ids.size() == 4);
+  for (float wobble : {1e-3f, -1e-3f}) { // EPA's normal is the slab's; the faces' alignments
+    Quat const q = Quat::from_rotation_x(wobble); // with it differ by 5e-7 (in float, 1e-4 by 0)
+    auto const w = contact_manifold(box_h, at({0.2f, 0.49f, 0}, q), slab_h, slab_pose);
+    check_manifold(w);
+    std::set<std::uint64_t> ids;
+    for (auto const& c : w)
+      ids.insert(c.id);
+    CHECK(ids == flat_hull_ids);
+    CHECK((w.normal - q * Vec3{0, -1, 0}).length() < 1e-6f);
+  }
   // NaN pose: failed, no points.
   float const nan = std::numeric_limits<float>::quiet_NaN();
   auto const bad = contact_manifold(box, at({nan, 0, 0}), ground, ground_pose);
@@ -233,10 +249,33 @@ TEST_CASE("manifold: spheres and capsules", "[collision][manifold]") {
   CHECK(side.normal.x == Approx(1).margin(1e-5));
   for (auto const& c : side)
     CHECK(c.separation == Approx(-0.05f).margin(1e-5));
+  for (auto const& c : side) { // within both segments' extents: B's upper end is clipped to A's
+    CHECK(std::abs(c.point_a.y) <= 1 + 1e-6f);
+    CHECK(c.point_b.y >= 0.2f - 1e-6f);
+    CHECK(c.point_b.y <= 1 + 1e-6f);
+  }
   auto const crossing =
       contact_manifold(Capsule{1, 0.3f}, at({0, 0, 0}), Capsule{1, 0.3f}, at({0, 0, 0.55f}, lie));
   check_manifold(crossing);
   CHECK(crossing.count == 1);
+  // A long capsule across a small box: clipped at both of the face's sides, two points with
+  // distinct ids at x = +-0.5.
+  auto const across = contact_manifold(Capsule{2, 0.25f}, at({0, 0.74f, 0}, lie),
+                                       Cuboid{{0.5f, 0.5f, 0.5f}}, Iso3{});
+  check_manifold(across);
+  REQUIRE(across.count == 2);
+  CHECK(std::abs(across.points[0].point_a.x) == Approx(0.5f).margin(1e-5));
+  CHECK(across.points[0].point_a.x * across.points[1].point_a.x < 0);
+  // Tilted by more than the face alignment (1.1 degrees; 3 here): one point, the lower end,
+  // even though the upper end is within the prediction distance too.
+  float const tilt = 3 * float(std::numbers::pi) / 180;
+  Quat const tilted = Quat::from_rotation_z(float(std::numbers::pi / 2) - tilt);
+  float const low_end = 0.2f * std::sin(tilt); // the core's lower end below its centre
+  auto const leaning = contact_manifold(Capsule{0.2f, 0.25f}, at({0, 0.24f + low_end, 0}, tilted),
+                                        ground, ground_pose);
+  check_manifold(leaning);
+  CHECK(leaning.count == 1);
+  CHECK(leaning.min_separation() == Approx(-0.01f).margin(1e-5));
 }
 
 TEST_CASE("manifold: half-spaces, triangles and the 4-point reduction", "[collision][manifold]") {
@@ -252,8 +291,15 @@ TEST_CASE("manifold: half-spaces, triangles and the 4-point reduction", "[collis
   CHECK(hf.count == 4);
   CHECK(hf.normal.y == Approx(1));
   auto const hs = contact_manifold(Sphere{1}, at({0, 0.9f, 0}), floor, Iso3{});
+  check_manifold(hs);
   CHECK(hs.count == 1);
   CHECK(hs.points[0].separation == Approx(-0.1f).margin(1e-5));
+  CHECK(hs.points[0].point_b.y == Approx(0).margin(1e-6));     // on the plane
+  CHECK(hs.points[0].point_a.y == Approx(-0.1f).margin(1e-6)); // the sphere's lowest point
+  auto const hsf = contact_manifold(floor, Iso3{}, Sphere{1}, at({0, 0.9f, 0})); // plane first
+  check_manifold(hsf);
+  CHECK(hsf.points[0].point_a.y == Approx(0).margin(1e-6));
+  CHECK(hsf.points[0].point_b.y == Approx(-0.1f).margin(1e-6));
   Quat const lie = Quat::from_rotation_z(float(std::numbers::pi / 2));
   CHECK(contact_manifold(Capsule{1, 0.25f}, at({0, 0.2f, 0}, lie), floor, Iso3{}).count == 2);
   // A tilted floor (pose rotates the plane) and a cylinder (generic: one point).
@@ -280,6 +326,27 @@ TEST_CASE("manifold: half-spaces, triangles and the 4-point reduction", "[collis
   for (auto const& v : puck.vertices())
     deepest = std::min(deepest, puck_pose.transform_point(v).y);
   CHECK(pm.min_separation() == Approx(deepest).margin(1e-5));
+  // A 100-gon disc: 100 vertices within reach of the floor, more than the 64 candidates kept
+  // (the deepest 64 are): the deepest vertex is still among the manifold's points.
+  std::vector<Vec3> disc100;
+  for (int k = 0; k < 100; ++k) {
+    float const a = float(2 * std::numbers::pi * k / 100);
+    disc100.push_back({std::cos(a), -0.05f, std::sin(a)});
+    disc100.push_back({std::cos(a), 0.05f, std::sin(a)});
+  }
+  ConvexHull const wheel = hull_of(disc100);
+  for (int k = 0; k < 8; ++k) { // turned, then tilted: the deepest vertex goes round
+    Iso3 const wheel_pose =
+        at({0, 0.045f, 0}, Quat::from_rotation_x(0.003f) * Quat::from_rotation_y(0.8f * float(k)));
+    float deepest100 = 1e9f;
+    for (auto const& v : wheel.vertices())
+      deepest100 = std::min(deepest100, wheel_pose.transform_point(v).y);
+    auto const wm = contact_manifold(wheel, wheel_pose, floor, Iso3{});
+    INFO("tilt direction " << k);
+    check_manifold(wm);
+    REQUIRE(wm.count == 4);
+    CHECK(wm.min_separation() == Approx(deepest100).margin(1e-6));
+  }
   // The 4 points span most of the disc: their quadrilateral's area > 1.5 (the disc's is pi).
   // (The hull area of 4 points in convex position is the largest of the three diagonal
   // pairings' |d1 x d2| / 2.)
