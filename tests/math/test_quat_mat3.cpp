@@ -323,8 +323,16 @@ TEMPLATE_LIST_TEST_CASE("quat and mat3 degenerate input", "[math][quat][mat3]", 
   auto const aa = Q::IDENTITY.to_axis_angle();
   CHECK(plume::all(aa.axis.cmpeq(V::X).all()));
   CHECK(plume::all(aa.angle == zero<T>()));
+  // ... and so is any vector part below 1e-8 (documented), whatever its direction.
+  auto const tiny = Q{zero<T>(), splat<T>(S(1e-9)), zero<T>(), one<T>()}.to_axis_angle();
+  CHECK(plume::all(tiny.axis.cmpeq(V::X).all()));
+  CHECK(plume::all(tiny.angle == zero<T>()));
   CHECK(plume::all(Q::IDENTITY.is_near_identity()));
   CHECK(plume::none(Q::from_rotation_x(splat<T>(S(0.01))).is_near_identity()));
+  // q and -q are the same rotation: -identity, and a small turn negated, are near identity.
+  Q const small_turn = Q::from_rotation_y(splat<T>(S(0.001)));
+  CHECK(plume::all((-Q::IDENTITY).is_near_identity()));
+  CHECK(plume::all((-small_turn).is_near_identity()));
   // rotate_towards stops at the target and never overshoots.
   Q const target = Q::from_rotation_z(splat<T>(S(1)));
   Q const step = Q::IDENTITY.rotate_towards(target, splat<T>(S(0.25)));
@@ -332,6 +340,12 @@ TEMPLATE_LIST_TEST_CASE("quat and mat3 degenerate input", "[math][quat][mat3]", 
                    splat<T>(S(16 * eps))));
   CHECK(plume::all(Q::IDENTITY.rotate_towards(target, splat<T>(S(5)))
                        .abs_diff_eq(target, splat<T>(S(16 * eps)))));
+  // A negative max_angle turns away from the target by that much (glam's convention).
+  Q const away = Q::IDENTITY.rotate_towards(target, splat<T>(S(-0.25)));
+  CHECK(plume::all(plume::abs(away.angle_between(target) - splat<T>(S(1.25))) <=
+                   splat<T>(S(16 * eps))));
+  CHECK(plume::all(plume::abs(Q::IDENTITY.angle_between(away) - splat<T>(S(0.25))) <=
+                   splat<T>(S(16 * eps))));
 }
 
 #if PLUME_HAS_BATCHES

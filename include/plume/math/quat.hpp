@@ -360,7 +360,8 @@ struct GQuat {
       return slerp_trig(e, d, t);
     }
   }
-  /// Rotates towards b by at most max_angle (radians); b itself when within 1e-4 rad.
+  /// Rotates towards b by at most max_angle (radians); b itself when within 1e-4 rad. A
+  /// negative max_angle turns away from b by up to its magnitude (as glam).
   GQuat rotate_towards(GQuat const& b, T max_angle) const noexcept {
     T const angle = angle_between(b);
     mask_t<T> const arrive = angle <= splat<T>(scalar_type(1e-4));
