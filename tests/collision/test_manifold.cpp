@@ -7,6 +7,7 @@
 #include <plume/collision/manifold.hpp>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <set>
@@ -17,23 +18,48 @@ using namespace plume::test;
 
 namespace {
 
+/// The feature ids of a manifold's points.
+std::set<std::uint64_t> ids_of(Manifold const& m) {
+  std::set<std::uint64_t> ids;
+  for (auto const& c : m)
+    ids.insert(c.id);
+  return ids;
+}
+
 /// Invariants of every manifold: unit normal, at most 4 points, unique ids, points joined by
 /// separation * normal, separations within the prediction distance.
 void check_manifold(Manifold const& m, ManifoldConfig const& cfg = {}) {
   REQUIRE(m.count <= 4);
   if (m.count == 0) return;
   CHECK(std::abs(m.normal.length() - 1) < 1e-5f);
-  std::set<std::uint64_t> ids;
   for (auto const& c : m) {
-    ids.insert(c.id);
     CHECK(c.separation <= cfg.prediction + 1e-6f);
     Vec3 const gap = c.point_b - c.point_a;
     CHECK((gap - m.normal * c.separation).length() <= 1e-4f);
   }
-  CHECK(ids.size() == std::size_t(m.count));
+  CHECK(ids_of(m).size() == std::size_t(m.count)); // unique
 }
 
 Iso3 at(Vec3 t, Quat q = Quat::IDENTITY) { return {q, t}; }
+
+/// A disc of radius 1 and thickness 0.1 (a regular prism of `sides` sides) as a hull.
+ConvexHull disc_hull(int sides) {
+  std::vector<Vec3> pts;
+  for (int k = 0; k < sides; ++k) {
+    float const a = float(2 * std::numbers::pi * k / sides);
+    pts.push_back({std::cos(a), -0.05f, std::sin(a)});
+    pts.push_back({std::cos(a), 0.05f, std::sin(a)});
+  }
+  return hull_of(pts);
+}
+
+/// The lowest world y of a hull's vertices at a pose.
+float lowest_y(ConvexHull const& h, Iso3 const& pose) {
+  float y = std::numeric_limits<float>::infinity();
+  for (auto const& v : h.vertices())
+    y = std::min(y, pose.transform_point(v).y);
+  return y;
+}
 
 } // namespace
 
@@ -136,11 +162,7 @@ TEST_CASE("manifold: speculative points, apart, ids that persist", "[collision][
   // Ids: the same features give the same ids after a small move, in any order.
   auto const m1 = contact_manifold(box, at({0.1f, 0.49f, 0}), ground, ground_pose);
   auto const m2 = contact_manifold(box, at({0.12f, 0.485f, 0.01f}), ground, ground_pose);
-  std::set<std::uint64_t> ids1, ids2;
-  for (auto const& c : m1)
-    ids1.insert(c.id);
-  for (auto const& c : m2)
-    ids2.insert(c.id);
+  std::set<std::uint64_t> const ids1 = ids_of(m1), ids2 = ids_of(m2);
   CHECK(ids1 == ids2);
   CHECK(ids1.size() == 4);
   // A box overhanging a small ledge: clipped points, with ids that persist too.
@@ -152,11 +174,7 @@ TEST_CASE("manifold: speculative points, apart, ids that persist", "[collision][
                                    ledge, ledge_pose);
   check_manifold(c1);
   check_manifold(c2);
-  std::set<std::uint64_t> k1, k2;
-  for (auto const& c : c1)
-    k1.insert(c.id);
-  for (auto const& c : c2)
-    k2.insert(c.id);
+  std::set<std::uint64_t> const k1 = ids_of(c1), k2 = ids_of(c2);
   CHECK(c1.count == 4);
   CHECK(k1 == k2);
   // A box wobbling on a slab by 1e-4 rad: the slab's face then separates the pair by 1.5 x
@@ -165,34 +183,28 @@ TEST_CASE("manifold: speculative points, apart, ids that persist", "[collision][
   // persist (a reference flipping from frame to frame would lose the solver's warm start).
   Cuboid const slab{{2, 0.5f, 2}};
   Iso3 const slab_pose = at({0, -0.5f, 0});
-  std::set<std::uint64_t> flat_ids;
-  for (auto const& c : contact_manifold(box, at({0.2f, 0.49f, 0}), slab, slab_pose))
-    flat_ids.insert(c.id);
+  std::set<std::uint64_t> const flat_ids =
+      ids_of(contact_manifold(box, at({0.2f, 0.49f, 0}), slab, slab_pose));
   CHECK(flat_ids.size() == 4);
   for (float wobble : {1e-4f, -1e-4f, 2e-4f}) {
     for (Quat const q : {Quat::from_rotation_x(wobble), Quat::from_rotation_z(wobble)}) {
       auto const w = contact_manifold(box, at({0.2f, 0.49f, 0}, q), slab, slab_pose);
       check_manifold(w);
-      std::set<std::uint64_t> ids;
-      for (auto const& c : w)
-        ids.insert(c.id);
+      std::set<std::uint64_t> const ids = ids_of(w);
       CHECK(ids == flat_ids);
       CHECK((w.normal - q * Vec3{0, -1, 0}).length() < 1e-6f); // the box's face, not the slab's
     }
   }
   // The same as hulls (the GJK/EPA path, whose face choice has its own hysteresis).
   ConvexHull const box_h = box_hull(box.half_extents), slab_h = box_hull(slab.half_extents);
-  std::set<std::uint64_t> flat_hull_ids;
-  for (auto const& c : contact_manifold(box_h, at({0.2f, 0.49f, 0}), slab_h, slab_pose))
-    flat_hull_ids.insert(c.id);
+  std::set<std::uint64_t> const flat_hull_ids =
+      ids_of(contact_manifold(box_h, at({0.2f, 0.49f, 0}), slab_h, slab_pose));
   CHECK(flat_hull_ids.size() == 4);
   for (float wobble : {1e-3f, -1e-3f}) { // EPA's normal is the slab's; the faces' alignments
     Quat const q = Quat::from_rotation_x(wobble); // with it differ by 5e-7 (in float, 1e-4 by 0)
     auto const w = contact_manifold(box_h, at({0.2f, 0.49f, 0}, q), slab_h, slab_pose);
     check_manifold(w);
-    std::set<std::uint64_t> ids;
-    for (auto const& c : w)
-      ids.insert(c.id);
+    std::set<std::uint64_t> const ids = ids_of(w);
     CHECK(ids == flat_hull_ids);
     CHECK((w.normal - q * Vec3{0, -1, 0}).length() < 1e-6f);
   }
@@ -311,36 +323,20 @@ TEST_CASE("manifold: half-spaces, triangles and the 4-point reduction", "[collis
   CHECK(sl.normal.dot(slope.transform_vector({0, -1, 0})) == Approx(1));
   // A 32-gon disc hull, slightly tilted, on the floor: reduced to 4 points, the deepest kept,
   // spread over the disc (large area).
-  std::vector<Vec3> disc;
-  for (int k = 0; k < 32; ++k) {
-    float const a = float(2 * std::numbers::pi * k / 32);
-    disc.push_back({std::cos(a), -0.05f, std::sin(a)});
-    disc.push_back({std::cos(a), 0.05f, std::sin(a)});
-  }
-  ConvexHull const puck = hull_of(disc);
+  ConvexHull const puck = disc_hull(32);
   Iso3 const puck_pose = at({0, 0.04f, 0}, Quat::from_rotation_x(0.01f));
   auto const pm = contact_manifold(puck, puck_pose, floor, Iso3{});
   check_manifold(pm);
   REQUIRE(pm.count == 4);
-  float deepest = 1e9f;
-  for (auto const& v : puck.vertices())
-    deepest = std::min(deepest, puck_pose.transform_point(v).y);
+  float const deepest = lowest_y(puck, puck_pose);
   CHECK(pm.min_separation() == Approx(deepest).margin(1e-5));
   // A 100-gon disc: 100 vertices within reach of the floor, more than the 64 candidates kept
   // (the deepest 64 are): the deepest vertex is still among the manifold's points.
-  std::vector<Vec3> disc100;
-  for (int k = 0; k < 100; ++k) {
-    float const a = float(2 * std::numbers::pi * k / 100);
-    disc100.push_back({std::cos(a), -0.05f, std::sin(a)});
-    disc100.push_back({std::cos(a), 0.05f, std::sin(a)});
-  }
-  ConvexHull const wheel = hull_of(disc100);
+  ConvexHull const wheel = disc_hull(100);
   for (int k = 0; k < 8; ++k) { // turned, then tilted: the deepest vertex goes round
     Iso3 const wheel_pose =
         at({0, 0.045f, 0}, Quat::from_rotation_x(0.003f) * Quat::from_rotation_y(0.8f * float(k)));
-    float deepest100 = 1e9f;
-    for (auto const& v : wheel.vertices())
-      deepest100 = std::min(deepest100, wheel_pose.transform_point(v).y);
+    float const deepest100 = lowest_y(wheel, wheel_pose);
     auto const wm = contact_manifold(wheel, wheel_pose, floor, Iso3{});
     INFO("tilt direction " << k);
     check_manifold(wm);
