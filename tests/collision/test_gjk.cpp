@@ -484,6 +484,21 @@ TEST_CASE("casts stopped by the iteration cap report a conservative hit",
     CHECK(rc.hit);
     CHECK(rc.toi <= ray_ref.toi);
   }
+  // A hollow cast from inside: the exit. Capped, it is never reported later than the true
+  // exit (an exit search that runs out is no hit: no exit time is a safe bound).
+  Ray3 const out{{0.1f, -0.05f, 0.02f}, {0.3f, 1, -0.2f}};
+  auto const exit_ref = ray_cast_gjk(round, Iso3{}, out, 10.0f, false);
+  REQUIRE(exit_ref.hit);
+  int exits = 0;
+  for (int cap = 1; cap <= 12; ++cap) {
+    INFO("hollow, cap " << cap);
+    GjkConfig g;
+    g.max_iterations = cap;
+    auto const e = ray_cast_gjk(round, Iso3{}, out, 10.0f, false, g);
+    if (e.hit) CHECK(e.toi <= exit_ref.toi + 1e-5f);
+    exits += e.hit && e.toi > 0;
+  }
+  CHECK(exits > 0); // some caps let the exit search finish: the check above is not vacuous
 }
 
 TEST_CASE("casts moving parallel to a face, outside it, miss", "[collision][gjk][cast]") {

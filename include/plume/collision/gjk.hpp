@@ -400,8 +400,9 @@ shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const
 /// collision/ray_cast.hpp and are faster where they exist). Conventions as in ray_cast.hpp:
 /// toi in units of |dir|, outward normal, solid casts from inside hit at 0 with a zero normal,
 /// hollow casts from inside hit where the ray leaves the shape. Lanes that hit the iteration
-/// cap report their conservative toi as a hit. feature is -1 (a hull's face can be found
-/// from the normal with GConvexHull::support_face).
+/// cap report their conservative toi as a hit (never later than the true one); a hollow
+/// cast's exit search that hits the cap reports no hit, since no exit time is a safe bound.
+/// feature is -1 (a hull's face can be found from the normal with GConvexHull::support_face).
 template <Real T, ConvexShape<T> Shape>
 PLUME_FLATTEN GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, GRay3<T> const& ray,
                                       T max_toi, bool solid = true,
@@ -436,7 +437,8 @@ PLUME_FLATTEN GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, 
           detail::gjk_cast(none, sb, far, -ray.dir, back, radius, far - pose.translation,
                            bad_input | (!inside) | (dl == z), cfg);
       T exit = back - e.toi;
-      mask_t<T> found = inside & e.hit & (!e.started_inside);
+      // A capped back cast's toi is a lower bound, which makes its exit a late one: not found.
+      mask_t<T> found = inside & e.hit & (!e.started_inside) & (!e.out_of_iterations);
       mask_t<T> in_range = exit <= max_toi;
       out.hit = (out.hit & (!inside)) | (found & in_range);
       out.toi =
