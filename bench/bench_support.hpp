@@ -27,16 +27,7 @@ void run_items(benchmark::State& st, std::int64_t items, F&& body) {
 /// (f32x4, f32x8, f32x16), in that order.
 template <class R>
 void for_each_f32_width(R&& reg) {
-  reg.template operator()<float>();
-#if PLUME_HAS_BATCHES
-  reg.template operator()<f32x4>();
-#endif
-#if PLUME_HAS_AVX2
-  reg.template operator()<f32x8>();
-#endif
-#if PLUME_HAS_AVX512
-  reg.template operator()<f32x16>();
-#endif
+  for_each_type<f32_types>(reg);
 }
 
 /// Google Benchmark's main body, after the suite has registered its benchmarks.

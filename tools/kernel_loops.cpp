@@ -46,13 +46,5 @@ using namespace plume;
   PLUME_KERNEL_LOOP(vec3_normalize, W, T, GVec3<T>, o[i].normalize())                              \
   PLUME_KERNEL_LOOP(mat3_mul_vec3, W, T, GVec3<T>, GMat3<T>::from_quat(q[i]) * o[i])
 
-PLUME_KERNEL_LOOPS(x1, float)
-#if PLUME_HAS_BATCHES
-PLUME_KERNEL_LOOPS(x4, f32x4)
-#endif
-#if PLUME_HAS_AVX2
-PLUME_KERNEL_LOOPS(x8, f32x8)
-#endif
-#if PLUME_HAS_AVX512
-PLUME_KERNEL_LOOPS(x16, f32x16)
-#endif
+#define PLUME_KERNEL_LOOPS_OF(T, lanes) PLUME_KERNEL_LOOPS(x##lanes, T)
+PLUME_FOR_EACH_F32_TYPE(PLUME_KERNEL_LOOPS_OF)

@@ -310,18 +310,9 @@ bool intrinsics_agree() {
 
 int main(int argc, char** argv) {
   register_scalar();
-  register_width<float>();
-#if PLUME_HAS_BATCHES
-  register_width<plume::f32x4>();
-#endif
+  plume::bench::for_each_f32_width([]<class T>() { register_width<T>(); });
 #if PLUME_HAS_AVX2
-  register_width<plume::f32x8>();
   register_intrinsics();
-#endif
-#if PLUME_HAS_AVX512
-  register_width<plume::f32x16>();
-#endif
-#if PLUME_HAS_AVX2
   if (!intrinsics_agree()) return 1;
 #endif
   return plume::bench::run_benchmarks(argc, argv);

@@ -1,24 +1,17 @@
-// plume/solver.hpp - the solver layer: velocity projection, plane sets and depenetration
-// (move-and-slide's building blocks), the soft-step contact solver and a minimal rigid-body
-// world, each generic over the element type where it runs wide.
+// plume/solver.hpp - the constraint solver floor (target plume::solver): constraint kernels
+// over the element type, so that W constraints solve per instruction, and the storage they
+// run on. Contacts today; joints next, on the same rows and blocks.
 //
-//   project_velocity, project_velocity_bruteforce (solver/velocity_projection.hpp)
-//   PlaneSet3<T>, PlaneSet2<T>                    (solver/plane_set.hpp)
-//   depenetrate, Penetration<Vec>                 (solver/depenetration.hpp)
 //   Softness                                      (solver/softness.hpp)
-//   ConstraintGraph                               (solver/constraint_graph.hpp)
+//   ConstraintGraph (the colouring)               (solver/constraint_graph.hpp)
 //   BodyState, GBodyState<T>, gather/scatter      (solver/body_state.hpp)
+//   GLaneArray, GLaneVec3, GLaneSym3              (solver/lane_storage.hpp)
 //   GContactConstraint<T> and its kernels         (solver/contact_constraint.hpp)
-//   World, BodyDef, WorldConfig, Contact          (solver/world.hpp, compiled: solver/world.cpp)
-//   add_ground, add_box_pyramid, add_box_stack... (solver/scenes.hpp)
+//   ConstraintBlocks<C>: overflow + coloured SoA blocks (solver/constraint_blocks.hpp)
 #pragma once
 
 #include <plume/solver/body_state.hpp>
 #include <plume/solver/constraint_graph.hpp>
 #include <plume/solver/contact_constraint.hpp>
-#include <plume/solver/depenetration.hpp>
-#include <plume/solver/plane_set.hpp>
-#include <plume/solver/scenes.hpp>
+#include <plume/solver/lane_storage.hpp>
 #include <plume/solver/softness.hpp>
-#include <plume/solver/velocity_projection.hpp>
-#include <plume/solver/world.hpp>

@@ -703,7 +703,6 @@ bool same_hit(H const& a, H const& b) {
          same(a.feature, b.feature);
 }
 
-#if PLUME_HAS_BATCHES
 TEMPLATE_LIST_TEST_CASE("triangle casts are lane-exact, on shared edges and vertices too",
                         "[collision][ray][lanes]", wide_real_types) {
   // The triangle cast takes a branch for a whole batch when any lane has an edge function
@@ -879,4 +878,3 @@ TEMPLATE_LIST_TEST_CASE("every ray cast is lane-exact", "[collision][ray][lanes]
       });
   CHECK(failures == 0);
 }
-#endif

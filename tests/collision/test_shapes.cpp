@@ -116,7 +116,6 @@ TEST_CASE("support points and boxes at a pose", "[collision][shapes]") {
   (void)r;
 }
 
-#if PLUME_HAS_BATCHES
 TEMPLATE_LIST_TEST_CASE("shape methods are lane-exact", "[collision][shapes][lanes]",
                         wide_real_types) {
   using T = TestType;
@@ -152,4 +151,3 @@ TEMPLATE_LIST_TEST_CASE("shape methods are lane-exact", "[collision][shapes][lan
                           GVec3<E>{c.volume(), y.volume(), x.volume()}};
       });
 }
-#endif

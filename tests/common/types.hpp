@@ -1,61 +1,21 @@
 // Element-type lists of this build, for TEMPLATE_LIST_TEST_CASE: every test runs for the
-// scalar types and every width the build enables.
+// scalar types and every width the build enables (the lists come from plume/numerics/wide.hpp).
 #pragma once
 
 #include <plume/numerics.hpp>
 
-#include <tuple>
-#include <utility>
-
 namespace plume::test {
 
-using wide_real_types = std::tuple<
-#if PLUME_HAS_BATCHES
-    f32x4, f64x2
-#endif
-#if PLUME_HAS_AVX2
-    ,
-    f32x8, f64x4
-#endif
-#if PLUME_HAS_AVX512
-    ,
-    f32x16, f64x8
-#endif
-    >;
+/// Every wide real type of the build: the f32 widths, then the f64 widths.
+using wide_real_types = type_list_cat_t<f32_widths, f64_widths>;
 
 /// The scalar types and then every wide type.
-using real_types = decltype(std::tuple_cat(std::declval<std::tuple<float, double>>(),
-                                           std::declval<wide_real_types>()));
+using real_types = type_list_cat_t<type_list<float, double>, wide_real_types>;
 
 /// float and every f32 width of the build (kernels that are float-only, like the solver's).
-using f32_types = std::tuple<float
-#if PLUME_HAS_BATCHES
-                             ,
-                             f32x4
-#endif
-#if PLUME_HAS_AVX2
-                             ,
-                             f32x8
-#endif
-#if PLUME_HAS_AVX512
-                             ,
-                             f32x16
-#endif
-                             >;
+using f32_types = plume::f32_types;
 
-using int_types = std::tuple<std::int32_t, std::uint32_t
-#if PLUME_HAS_BATCHES
-                             ,
-                             i32x4, u32x4
-#endif
-#if PLUME_HAS_AVX2
-                             ,
-                             i32x8, u32x8
-#endif
-#if PLUME_HAS_AVX512
-                             ,
-                             i32x16, u32x16
-#endif
-                             >;
+using int_types =
+    type_list_cat_t<type_list<std::int32_t, std::uint32_t>, i32_widths, u32_widths>;
 
 } // namespace plume::test

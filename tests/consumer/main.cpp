@@ -92,8 +92,17 @@ int main() {
   // the widest width and at x1: the same bits.
   auto const run_world = [](bool scalar) {
     World world;
-    add_ground(world);
-    std::vector<BodyId> boxes = add_box_pyramid(world, 4);
+    world.create_body({.type = BodyType::static_body, .shape = HalfSpace{Vec3::Y}});
+    std::vector<BodyId> boxes;
+    for (int layer = 0; layer < 4; ++layer) // n x n unit cubes on layer 4 - n
+      for (int n = 4 - layer, j = 0; j < n * n; ++j) {
+        Vec3 const at{float(j / n) - 0.5f * float(n - 1), 0.5f + float(layer),
+                      float(j % n) - 0.5f * float(n - 1)};
+        boxes.push_back(world
+                            .create_body({.pose = Iso3::from_translation(at),
+                                          .shape = Cuboid{Vec3::splat(0.5f)}})
+                            .id);
+      }
     BodyDef ball;
     ball.shape = Sphere{0.25f};
     ball.restitution = 0.5f;

@@ -9,9 +9,9 @@
 // every wide type must hash like the scalar one (lane-exactness); tests/determinism/golden.txt
 // holds the expected lines. After an intended change of results, regenerate it with
 // `plume_golden > tests/determinism/golden.txt` and say why in the commit.
-#include <plume/collision.hpp>
-#include <plume/numerics.hpp>
-#include <plume/solver.hpp>
+#include <plume/plume.hpp>
+
+#include <fixtures/scenes.hpp>
 
 #include <cmath>
 
@@ -25,6 +25,7 @@
 #include <vector>
 
 using namespace plume;
+using namespace plume::scenes;
 
 namespace plume {
 /// a*b + a, so that the battery covers mul_add with two operands.
@@ -410,7 +411,7 @@ int main(int argc, char** argv) {
   std::map<std::string, std::uint64_t> got;
   bool lanes_ok = true;
   auto record = [&](char const* name, std::uint64_t scalar_hash,
-                    std::initializer_list<std::uint64_t> wide) {
+                    std::vector<std::uint64_t> const& wide) {
     got[name] = scalar_hash;
     for (auto w : wide)
       if (w != scalar_hash) {
@@ -420,84 +421,25 @@ int main(int argc, char** argv) {
         lanes_ok = false;
       }
   };
-  record("numerics_f32", numerics_battery<float>(), {
-#if PLUME_HAS_BATCHES
-    numerics_battery<f32x4>(),
-#endif
-#if PLUME_HAS_AVX2
-        numerics_battery<f32x8>(),
-#endif
-#if PLUME_HAS_AVX512
-        numerics_battery<f32x16>(),
-#endif
-  });
-  record("numerics_f64", numerics_battery<double>(), {
-#if PLUME_HAS_BATCHES
-    numerics_battery<f64x2>(),
-#endif
-#if PLUME_HAS_AVX2
-        numerics_battery<f64x4>(),
-#endif
-#if PLUME_HAS_AVX512
-        numerics_battery<f64x8>(),
-#endif
-  });
-  record("solver_f32", solver_battery<float>(), {
-#if PLUME_HAS_BATCHES
-    solver_battery<f32x4>(),
-#endif
-#if PLUME_HAS_AVX2
-        solver_battery<f32x8>(),
-#endif
-#if PLUME_HAS_AVX512
-        solver_battery<f32x16>(),
-#endif
-  });
-  record("solver_f64", solver_battery<double>(), {
-#if PLUME_HAS_BATCHES
-    solver_battery<f64x2>(),
-#endif
-#if PLUME_HAS_AVX2
-        solver_battery<f64x4>(),
-#endif
-#if PLUME_HAS_AVX512
-        solver_battery<f64x8>(),
-#endif
-  });
-  record("collision_f32", collision_battery<float>(), {
-#if PLUME_HAS_BATCHES
-    collision_battery<f32x4>(),
-#endif
-#if PLUME_HAS_AVX2
-        collision_battery<f32x8>(),
-#endif
-#if PLUME_HAS_AVX512
-        collision_battery<f32x16>(),
-#endif
-  });
-  record("collision_f64", collision_battery<double>(), {
-#if PLUME_HAS_BATCHES
-    collision_battery<f64x2>(),
-#endif
-#if PLUME_HAS_AVX2
-        collision_battery<f64x4>(),
-#endif
-#if PLUME_HAS_AVX512
-        collision_battery<f64x8>(),
-#endif
-  });
+  // Each battery's hash for the scalar type, then for every width of the build.
+  auto battery = [&]<class List>(char const* name, List, auto run) {
+    std::vector<std::uint64_t> wide;
+    for_each_type<List>([&]<class T>() { wide.push_back(run.template operator()<T>()); });
+    record(name, run.template operator()<float>(), wide);
+  };
+  auto battery64 = [&]<class List>(char const* name, List, auto run) {
+    std::vector<std::uint64_t> wide;
+    for_each_type<List>([&]<class T>() { wide.push_back(run.template operator()<T>()); });
+    record(name, run.template operator()<double>(), wide);
+  };
+  battery("numerics_f32", f32_widths{}, []<class T>() { return numerics_battery<T>(); });
+  battery64("numerics_f64", f64_widths{}, []<class T>() { return numerics_battery<T>(); });
+  battery("solver_f32", f32_widths{}, []<class T>() { return solver_battery<T>(); });
+  battery64("solver_f64", f64_widths{}, []<class T>() { return solver_battery<T>(); });
+  battery("collision_f32", f32_widths{}, []<class T>() { return collision_battery<T>(); });
+  battery64("collision_f64", f64_widths{}, []<class T>() { return collision_battery<T>(); });
   record("contact_f32", contact_battery<float>(), {});
-  record("world_f32", world_battery<float>(), {
-#if PLUME_HAS_BATCHES
-    world_battery<f32x4>(),
-#endif
-#if PLUME_HAS_AVX2
-        world_battery<f32x8>(),
-#endif
-#if PLUME_HAS_AVX512
-        world_battery<f32x16>(),
-#endif
-  });
+  battery("world_f32", f32_widths{}, []<class T>() { return world_battery<T>(); });
   record("contact_f64", contact_battery<double>(), {});
   if (argc == 3 && !std::strcmp(argv[1], "--check")) {
     std::ifstream f(argv[2]);

@@ -122,7 +122,6 @@ TEMPLATE_LIST_TEST_CASE("iso2, mat2 and aabb2", "[math][2d]", test::real_types) 
   CHECK(plume::all(GAabb2<T>::EMPTY.merge(unit).is_valid()));
 }
 
-#if PLUME_HAS_BATCHES
 namespace {
 /// Lane-exactness of a 2D expression f(a, b, t) over adversarial lane mixes.
 template <class T, class F>
@@ -170,7 +169,6 @@ TEMPLATE_LIST_TEST_CASE("every 2D method is lane-exact", "[math][2d][lanes]",
   L2D(GMat2<decltype(t)>(a, b).determinant());
 #undef L2D
 }
-#endif
 
 TEMPLATE_LIST_TEST_CASE("mat4 against Eigen and its identities", "[math][mat4]", test::real_types) {
   using T = TestType;

@@ -348,7 +348,6 @@ TEMPLATE_LIST_TEST_CASE("quat and mat3 degenerate input", "[math][quat][mat3]", 
                    splat<T>(S(16 * eps))));
 }
 
-#if PLUME_HAS_BATCHES
 namespace {
 /// Lane-exactness of a quaternion/matrix expression f(q1, q2, v, t): random unit rotations
 /// with one lane poisoned by an adversarial value per case (the other lanes must not change),
@@ -420,4 +419,3 @@ TEMPLATE_LIST_TEST_CASE("every quat and mat3 method is lane-exact", "[math][lane
   QL(GMat3<decltype(t)>::skew(v) * GMat3<decltype(t)>::from_quat(q1).transpose());
 #undef QL
 }
-#endif

@@ -148,7 +148,6 @@ TEMPLATE_LIST_TEST_CASE("vec3 degenerate input", "[math][vec3]", test::real_type
   }
 }
 
-#if PLUME_HAS_BATCHES
 namespace {
 /// Lane-exactness of a vec3 expression f(a, b, t) over adversarial lane mixes.
 template <class T, class F>
@@ -233,7 +232,6 @@ TEMPLATE_LIST_TEST_CASE("every vec3 method is lane-exact", "[math][vec3][lanes]"
   V3(a.abs_diff_eq(b, t));
 #undef V3
 }
-#endif
 
 namespace {
 template <class V>

@@ -5,7 +5,6 @@
 
 using namespace plume;
 
-#if PLUME_HAS_BATCHES // a scalar build has no wide type to compare
 
 TEMPLATE_LIST_TEST_CASE("every numerics function is lane-exact", "[numerics][lanes]",
                         test::wide_real_types) {
@@ -64,4 +63,3 @@ TEMPLATE_LIST_TEST_CASE("every numerics function is lane-exact", "[numerics][lan
 #undef L1
 #undef L2
 }
-#endif

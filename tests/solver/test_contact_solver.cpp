@@ -158,8 +158,8 @@ TEMPLATE_LIST_TEST_CASE("body states: gather and scatter move exactly the named 
     CHECK(same_vec(states[r].delta_position, before[r].delta_position)); // never written
   }
 
-  // LaneArray / LaneVec3: lane writes and whole reads agree.
-  LaneVec3<T> lv;
+  // GLaneArray / GLaneVec3: lane writes and whole reads agree.
+  GLaneVec3<T> lv;
   for (std::size_t i = 0; i < W; ++i)
     lv.set_lane(i, {float(i), -float(i), 0.5f * float(i)});
   GVec3<T> const v = lv.get();

@@ -99,15 +99,6 @@ inline GAabb3<T> const GAabb3<T>::EMPTY = {};
 using Aabb3 = GAabb3<float>;
 using DAabb3 = GAabb3<double>;
 using Aabb3xN = GAabb3<f32xN>;
-#if PLUME_HAS_BATCHES
-using Aabb3x4 = GAabb3<f32x4>;
-#endif
-#if PLUME_HAS_AVX2
-using Aabb3x8 = GAabb3<f32x8>;
-#endif
-#if PLUME_HAS_AVX512
-using Aabb3x16 = GAabb3<f32x16>;
-#endif
 
 template <Float T>
 PLUME_INLINE GAabb3<scalar_t<T>> lane(GAabb3<T> const& b, std::size_t i) noexcept {

@@ -103,18 +103,6 @@ using Dir3 = GDir3<float>;
 using DDir3 = GDir3<double>;
 using Dir3xN = GDir3<f32xN>;
 using DDir3xN = GDir3<f64xN>;
-#if PLUME_HAS_BATCHES
-using Dir3x4 = GDir3<f32x4>;
-using DDir3x2 = GDir3<f64x2>;
-#endif
-#if PLUME_HAS_AVX2
-using Dir3x8 = GDir3<f32x8>;
-using DDir3x4 = GDir3<f64x4>;
-#endif
-#if PLUME_HAS_AVX512
-using Dir3x16 = GDir3<f32x16>;
-using DDir3x8 = GDir3<f64x8>;
-#endif
 
 template <Float T>
 PLUME_INLINE GDir3<scalar_t<T>> lane(GDir3<T> const& d, std::size_t i) noexcept {

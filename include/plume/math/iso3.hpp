@@ -77,18 +77,6 @@ using Iso3 = GIso3<float>;
 using DIso3 = GIso3<double>;
 using Iso3xN = GIso3<f32xN>;
 using DIso3xN = GIso3<f64xN>;
-#if PLUME_HAS_BATCHES
-using Iso3x4 = GIso3<f32x4>;
-using DIso3x2 = GIso3<f64x2>;
-#endif
-#if PLUME_HAS_AVX2
-using Iso3x8 = GIso3<f32x8>;
-using DIso3x4 = GIso3<f64x4>;
-#endif
-#if PLUME_HAS_AVX512
-using Iso3x16 = GIso3<f32x16>;
-using DIso3x8 = GIso3<f64x8>;
-#endif
 
 template <Float T>
 PLUME_INLINE GIso3<scalar_t<T>> lane(GIso3<T> const& a, std::size_t i) noexcept {

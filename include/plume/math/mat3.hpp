@@ -214,18 +214,6 @@ using Mat3 = GMat3<float>;
 using DMat3 = GMat3<double>;
 using Mat3xN = GMat3<f32xN>;
 using DMat3xN = GMat3<f64xN>;
-#if PLUME_HAS_BATCHES
-using Mat3x4 = GMat3<f32x4>;
-using DMat3x2 = GMat3<f64x2>;
-#endif
-#if PLUME_HAS_AVX2
-using Mat3x8 = GMat3<f32x8>;
-using DMat3x4 = GMat3<f64x4>;
-#endif
-#if PLUME_HAS_AVX512
-using Mat3x16 = GMat3<f32x16>;
-using DMat3x8 = GMat3<f64x8>;
-#endif
 
 template <Real T>
 PLUME_INLINE GMat3<scalar_t<T>> lane(GMat3<T> const& m, std::size_t i) noexcept {

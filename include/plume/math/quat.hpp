@@ -450,18 +450,6 @@ using Quat = GQuat<float>;
 using DQuat = GQuat<double>;
 using QuatxN = GQuat<f32xN>;
 using DQuatxN = GQuat<f64xN>;
-#if PLUME_HAS_BATCHES
-using Quatx4 = GQuat<f32x4>;
-using DQuatx2 = GQuat<f64x2>;
-#endif
-#if PLUME_HAS_AVX2
-using Quatx8 = GQuat<f32x8>;
-using DQuatx4 = GQuat<f64x4>;
-#endif
-#if PLUME_HAS_AVX512
-using Quatx16 = GQuat<f32x16>;
-using DQuatx8 = GQuat<f64x8>;
-#endif
 
 template <Float T>
 PLUME_INLINE GQuat<scalar_t<T>> lane(GQuat<T> const& q, std::size_t i) noexcept {

@@ -226,18 +226,6 @@ using Vec2 = GVec2<float>;
 using DVec2 = GVec2<double>;
 using Vec2xN = GVec2<f32xN>;
 using DVec2xN = GVec2<f64xN>;
-#if PLUME_HAS_BATCHES
-using Vec2x4 = GVec2<f32x4>;
-using DVec2x2 = GVec2<f64x2>;
-#endif
-#if PLUME_HAS_AVX2
-using Vec2x8 = GVec2<f32x8>;
-using DVec2x4 = GVec2<f64x4>;
-#endif
-#if PLUME_HAS_AVX512
-using Vec2x16 = GVec2<f32x16>;
-using DVec2x8 = GVec2<f64x8>;
-#endif
 
 template <Num T>
 PLUME_INLINE GVec2<scalar_t<T>> lane(GVec2<T> const& v, std::size_t i) noexcept {

@@ -1,6 +1,6 @@
 // plume/math/vec3.hpp - GVec3<T>: a 3-vector whose components are any element type.
 //
-// `GVec3<float>` (alias Vec3) is an ordinary vector; `GVec3<f32x8>` (Vec3x8) holds eight of
+// `GVec3<float>` (alias Vec3) is an ordinary vector; `GVec3<f32x8>` holds eight of
 // them in structure-of-arrays form, lane i of x, y, z being the i-th vector. Every method is
 // the same code for both and lane i of a wide result equals, bit for bit, the scalar method
 // on lane i's inputs. Methods that can fail for some lanes return a value and a mask, never
@@ -375,21 +375,6 @@ using DVec3 = GVec3<double>;
 using IVec3 = GVec3<std::int32_t>;
 using Vec3xN = GVec3<f32xN>;
 using DVec3xN = GVec3<f64xN>;
-#if PLUME_HAS_BATCHES
-using Vec3x4 = GVec3<f32x4>;
-using DVec3x2 = GVec3<f64x2>;
-using BVec3x4 = GBVec3<mask_t<f32x4>>;
-#endif
-#if PLUME_HAS_AVX2
-using Vec3x8 = GVec3<f32x8>;
-using DVec3x4 = GVec3<f64x4>;
-using BVec3x8 = GBVec3<mask_t<f32x8>>;
-#endif
-#if PLUME_HAS_AVX512
-using Vec3x16 = GVec3<f32x16>;
-using DVec3x8 = GVec3<f64x8>;
-using BVec3x16 = GBVec3<mask_t<f32x16>>;
-#endif
 
 /// Lane i of a wide vector as a scalar vector (a scalar vector is its own lane 0).
 template <Num T>

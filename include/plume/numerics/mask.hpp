@@ -13,6 +13,8 @@
 //   bitmask(m)        lane i of m in bit i of a uint64_t
 //   mask_cast<T>(m)   a mask of another element type with the same lanes and lane width
 //                     (an int32 comparison used to select floats)
+//   no_lanes<T>(), all_lanes<T>()   the mask of T (an element or a mask type) with every
+//                     lane false / true: the start of a mask that lanes join one by one
 #pragma once
 
 #include <plume/numerics/traits.hpp>
@@ -24,6 +26,17 @@
 PLUME_MASK_CODE_BEGIN
 
 namespace plume {
+
+/// The mask of T (an element type or a mask type) with every lane false.
+template <class T>
+PLUME_INLINE constexpr mask_t<T> no_lanes() noexcept {
+  return mask_t<T>(false);
+}
+/// The mask of T (an element type or a mask type) with every lane true.
+template <class T>
+PLUME_INLINE constexpr mask_t<T> all_lanes() noexcept {
+  return mask_t<T>(true);
+}
 
 PLUME_INLINE constexpr bool any(bool m) noexcept { return m; }
 PLUME_INLINE constexpr bool all(bool m) noexcept { return m; }

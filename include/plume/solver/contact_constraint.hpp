@@ -52,43 +52,15 @@ PLUME_MASK_CODE_BEGIN
 
 namespace plume {
 
-/// A symmetric 3x3 matrix (world inverse inertia), six lanes-wide fields.
-template <Real T>
-struct LaneSym3 {
-  LaneArray<T> xx, yy, zz, xy, xz, yz;
-
-  void set_lane(std::size_t i, Mat3 const& m) noexcept {
-    xx[i] = m.x_axis.x;
-    yy[i] = m.y_axis.y;
-    zz[i] = m.z_axis.z;
-    xy[i] = m.y_axis.x;
-    xz[i] = m.z_axis.x;
-    yz[i] = m.z_axis.y;
-  }
-};
-
-/// The symmetric matrix s times v.
-template <Real T>
-struct Sym3 {
-  T xx, yy, zz, xy, xz, yz;
-  static Sym3 load(LaneSym3<T> const& s) noexcept {
-    return {s.xx.get(), s.yy.get(), s.zz.get(), s.xy.get(), s.xz.get(), s.yz.get()};
-  }
-  GVec3<T> operator*(GVec3<T> const& v) const noexcept {
-    return {(xx * v.x + xy * v.y) + xz * v.z, (xy * v.x + yy * v.y) + yz * v.z,
-            (xz * v.x + yz * v.y) + zz * v.z};
-  }
-};
-
 template <Real T>
 struct GContactConstraintPoint {
-  LaneVec3<T> anchor_a;            ///< centre of mass of A -> contact point (world, m)
-  LaneVec3<T> anchor_b;            ///< centre of mass of B -> contact point
-  LaneArray<T> base_separation;    ///< separation - n . (anchor_b - anchor_a)
-  LaneArray<T> relative_velocity;  ///< normal relative velocity at prepare (restitution)
-  LaneArray<T> normal_mass;        ///< effective mass along the normal (0 = empty point)
-  LaneArray<T> normal_impulse;     ///< accumulated (N s)
-  LaneArray<T> max_normal_impulse; ///< largest normal impulse this step (restitution needs > 0)
+  GLaneVec3<T> anchor_a;            ///< centre of mass of A -> contact point (world, m)
+  GLaneVec3<T> anchor_b;            ///< centre of mass of B -> contact point
+  GLaneArray<T> base_separation;    ///< separation - n . (anchor_b - anchor_a)
+  GLaneArray<T> relative_velocity;  ///< normal relative velocity at prepare (restitution)
+  GLaneArray<T> normal_mass;        ///< effective mass along the normal (0 = empty point)
+  GLaneArray<T> normal_impulse;     ///< accumulated (N s)
+  GLaneArray<T> max_normal_impulse; ///< largest normal impulse this step (restitution needs > 0)
 };
 
 template <Real T>
@@ -96,17 +68,17 @@ struct GContactConstraint {
   static constexpr std::size_t lanes = lanes_v<T>;
   std::array<std::int32_t, lanes> state_a{}, state_b{}; ///< BodyState indices
   std::array<std::int32_t, lanes> write_a{}, write_b{}; ///< written back when >= 0 (dynamic)
-  LaneVec3<T> normal, tangent1, tangent2;
-  LaneArray<T> inv_mass_a, inv_mass_b;
-  LaneSym3<T> inv_inertia_a, inv_inertia_b; ///< world, at prepare
-  LaneArray<T> friction, restitution;
-  LaneArray<T> bias_rate, mass_scale, impulse_scale; ///< softness (stiffer against static)
+  GLaneVec3<T> normal, tangent1, tangent2;
+  GLaneArray<T> inv_mass_a, inv_mass_b;
+  GLaneSymMat3<T> inv_inertia_a, inv_inertia_b; ///< world, at prepare
+  GLaneArray<T> friction, restitution;
+  GLaneArray<T> bias_rate, mass_scale, impulse_scale; ///< softness (stiffer against static)
   std::array<GContactConstraintPoint<T>, 4> points;
   // Patch friction at the centre of the points.
-  LaneVec3<T> friction_anchor_a, friction_anchor_b;
-  LaneArray<T> tangent_mass1, tangent_mass2, twist_mass;
-  LaneArray<T> twist_radius; ///< mean distance of the points from the centre (m)
-  LaneArray<T> tangent_impulse1, tangent_impulse2, twist_impulse; ///< accumulated (N s, N m s)
+  GLaneVec3<T> friction_anchor_a, friction_anchor_b;
+  GLaneArray<T> tangent_mass1, tangent_mass2, twist_mass;
+  GLaneArray<T> twist_radius; ///< mean distance of the points from the centre (m)
+  GLaneArray<T> tangent_impulse1, tangent_impulse2, twist_impulse; ///< accumulated (N s, N m s)
 };
 
 /// One side of a contact as prepare_contact_lane() needs it.
@@ -244,7 +216,7 @@ template <Real T>
 struct ContactBodies {
   GBodyState<T> a, b;
   T ma, mb;
-  Sym3<T> ia, ib;
+  GSymMat3<T> ia, ib;
 
   /// Applies impulse p at anchors ra (on A, negated) and rb (on B).
   PLUME_INLINE void apply(GVec3<T> const& p, GVec3<T> const& ra, GVec3<T> const& rb) noexcept {
@@ -271,8 +243,8 @@ PLUME_INLINE ContactBodies<T> load_bodies(GContactConstraint<T> const& c,
           gather_states<T>(states, c.state_b.data()),
           c.inv_mass_a.get(),
           c.inv_mass_b.get(),
-          Sym3<T>::load(c.inv_inertia_a),
-          Sym3<T>::load(c.inv_inertia_b)};
+          c.inv_inertia_a.get(),
+          c.inv_inertia_b.get()};
 }
 
 template <Real T>

@@ -1,9 +1,12 @@
 // plume/solver/lane_storage.hpp - structure-of-arrays fields that are written one lane at a
 // time (when constraints are prepared, in plain float) and read whole (when the wide kernels
-// run): LaneArray<T> holds lanes_v<T> scalars, aligned so get() is one aligned load;
-// LaneVec3<T> holds three of them. For T = float both are a single value.
+// run): GGLaneArray<T> holds lanes_v<T> scalars, aligned so get() is one aligned load;
+// GGLaneVec3<T> holds three of them, GLaneSymMat3<T> the six entries of a symmetric matrix.
+// For T = float each is a single value.
 #pragma once
 
+#include <plume/math/mat3.hpp>
+#include <plume/math/sym_mat3.hpp>
 #include <plume/math/vec3.hpp>
 #include <plume/numerics.hpp>
 
@@ -13,7 +16,7 @@
 namespace plume {
 
 template <Real T>
-struct LaneArray {
+struct GLaneArray {
   using scalar_type = scalar_t<T>;
   static constexpr std::size_t lanes = lanes_v<T>;
   alignas(alignof(T)) std::array<scalar_type, lanes> v{};
@@ -35,8 +38,8 @@ struct LaneArray {
 };
 
 template <Real T>
-struct LaneVec3 {
-  LaneArray<T> x, y, z;
+struct GLaneVec3 {
+  GLaneArray<T> x, y, z;
 
   GVec3<T> get() const noexcept { return {x.get(), y.get(), z.get()}; }
   void set(GVec3<T> const& p) noexcept {
@@ -49,6 +52,25 @@ struct LaneVec3 {
     x[i] = p.x;
     y[i] = p.y;
     z[i] = p.z;
+  }
+};
+
+/// A symmetric 3x3 matrix per lane (world inverse inertia), six lane-wide fields.
+template <Real T>
+struct GLaneSymMat3 {
+  GLaneArray<T> xx, yy, zz, xy, xz, yz;
+
+  GSymMat3<T> get() const noexcept {
+    return {xx.get(), yy.get(), zz.get(), xy.get(), xz.get(), yz.get()};
+  }
+  void set_lane(std::size_t i, GMat3<scalar_t<T>> const& m) noexcept {
+    auto const s = GSymMat3<scalar_t<T>>::from_mat3(m);
+    xx[i] = s.xx;
+    yy[i] = s.yy;
+    zz[i] = s.zz;
+    xy[i] = s.xy;
+    xz[i] = s.xz;
+    yz[i] = s.yz;
   }
 };
 

@@ -7,13 +7,14 @@
 // stage timer (StepProfile) as Google Benchmark's manual time.
 #include "../bench_support.hpp"
 
-#include <plume/solver/scenes.hpp>
-#include <plume/solver/world.hpp>
+#include <fixtures/scenes.hpp>
+#include <plume/solver/world/world.hpp>
 
 #include <map>
 #include <string>
 
 using namespace plume;
+using namespace plume::scenes;
 
 namespace {
 

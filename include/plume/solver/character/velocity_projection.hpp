@@ -1,4 +1,4 @@
-// plume/solver/velocity_projection.hpp - the velocity closest to a desired one that does not
+// plume/solver/character/velocity_projection.hpp - the velocity closest to a desired one that does not
 // move into any of a set of contact planes (the sliding step of move-and-slide).
 //
 // Problem: given v and plane normals n_1..n_k (pointing out of the obstacles), find

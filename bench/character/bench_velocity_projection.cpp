@@ -7,7 +7,7 @@
 // random direction; wide widths put a different problem in each lane. P matters: with 512
 // problems repeated every iteration the branch predictor learnt the scalar code's branches
 // (scalar k = 8 ran at 13.6M/s instead of 5.6M/s), which no game's fresh contacts allow.
-#include <plume/solver.hpp>
+#include <plume/character.hpp>
 
 #include "../bench_support.hpp"
 

@@ -1,6 +1,6 @@
-// The rigid-body world (include/plume/solver/world.hpp). Compiled once per build, with
+// The rigid-body world (include/plume/solver/world/world.hpp). Compiled once per build, with
 // World::step_with instantiated for float and every f32 width the build enables.
-#include <plume/solver/world.hpp>
+#include <plume/solver/world/world.hpp>
 
 #include <algorithm>
 #include <bit>
@@ -500,15 +500,8 @@ std::uint64_t World::state_hash() const {
   return h;
 }
 
-template void World::step_with<float>(float);
-#if PLUME_HAS_BATCHES
-template void World::step_with<f32x4>(float);
-#endif
-#if PLUME_HAS_AVX2
-template void World::step_with<f32x8>(float);
-#endif
-#if PLUME_HAS_AVX512
-template void World::step_with<f32x16>(float);
-#endif
+#define PLUME_INSTANTIATE_STEP(T, lanes) template void World::step_with<T>(float);
+PLUME_FOR_EACH_F32_TYPE(PLUME_INSTANTIATE_STEP)
+#undef PLUME_INSTANTIATE_STEP
 
 } // namespace plume

@@ -5,7 +5,7 @@
 
 #include "../math/math_support.hpp"
 
-#include <plume/solver.hpp>
+#include <plume/character.hpp>
 
 #include <Eigen/Dense>
 

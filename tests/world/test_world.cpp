@@ -3,8 +3,8 @@
 // and bad input.
 #include "../common/harness.hpp"
 
-#include <plume/solver/scenes.hpp>
-#include <plume/solver/world.hpp>
+#include <fixtures/scenes.hpp>
+#include <plume/solver/world/world.hpp>
 
 #include <catch2/catch.hpp>
 
@@ -15,6 +15,7 @@
 #include <vector>
 
 using namespace plume;
+using namespace plume::scenes;
 
 namespace {
 
@@ -237,15 +238,7 @@ TEST_CASE("world: every solver width gives bitwise the same world", "[world][det
     return w.state_hash();
   };
   std::uint64_t const scalar = run(std::type_identity<float>{});
-#if PLUME_HAS_BATCHES
-  CHECK(run(std::type_identity<f32x4>{}) == scalar);
-#endif
-#if PLUME_HAS_AVX2
-  CHECK(run(std::type_identity<f32x8>{}) == scalar);
-#endif
-#if PLUME_HAS_AVX512
-  CHECK(run(std::type_identity<f32x16>{}) == scalar);
-#endif
+  for_each_type<f32_widths>([&]<class T>() { CHECK(run(std::type_identity<T>{}) == scalar); });
   // The same build run twice.
   CHECK(run(std::type_identity<float>{}) == scalar);
 }

@@ -1,9 +1,9 @@
 // Velocity projection: agreement of the n-step algorithm with brute force (the notes' test),
 // the optimality conditions against an independent QP oracle, named geometric cases, bad
 // input, and lane-exactness of the wide forms.
-#include "solver_support.hpp"
+#include "character_support.hpp"
 
-#include <plume/solver/velocity_projection.hpp>
+#include <plume/solver/character/velocity_projection.hpp>
 
 #include <algorithm>
 #include <array>
@@ -401,7 +401,6 @@ TEMPLATE_LIST_TEST_CASE("bad input: empty sets, zero and non-unit normals, tiny 
   }
 }
 
-#if PLUME_HAS_BATCHES // a scalar build has no wide types
 // --------------------------------------------------------------------------------- lane exactness
 
 namespace {
@@ -524,4 +523,3 @@ TEMPLATE_LIST_TEST_CASE("a NaN in one lane leaves the other lanes untouched",
     }
   }
 }
-#endif

@@ -1,4 +1,4 @@
-// plume/solver/world.hpp - a minimal rigid-body world around the wide contact solver: bodies
+// plume/solver/world/world.hpp - a minimal rigid-body world around the wide contact solver: bodies
 // with shapes from the collision module, a sort-and-sweep broad phase, manifolds from
 // collision/manifold.hpp matched across steps by feature id, a persistent graph colouring
 // and the soft-step solver (solver/contact_constraint.hpp) run W constraints at a time.

@@ -1,4 +1,4 @@
-// plume/solver/depenetration.hpp - the translation that pushes a shape out of the planes it
+// plume/solver/character/depenetration.hpp - the translation that pushes a shape out of the planes it
 // penetrates (Gauss–Seidel over (normal, depth) pairs), the first and last step of
 // move-and-slide.
 //

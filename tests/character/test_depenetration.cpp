@@ -1,10 +1,10 @@
 // Depenetration (Gauss–Seidel push-out) and the plane-set builder: exact answers for
 // orthogonal planes, convergence for a general corner, bounded non-convergence for opposing
 // planes, the rejection and bad-input rules, and lane-exactness of the wide forms.
-#include "solver_support.hpp"
+#include "character_support.hpp"
 
-#include <plume/solver/depenetration.hpp>
-#include <plume/solver/plane_set.hpp>
+#include <plume/solver/character/depenetration.hpp>
+#include <plume/solver/character/plane_set.hpp>
 
 #include <array>
 #include <limits>
@@ -90,7 +90,6 @@ TEST_CASE("depenetration: rejection, bad input, scaling", "[solver][depenetratio
   CHECK(DepenetrationConfig<float>::scaled(100).max_error == 1e-4f * 100);
 }
 
-#if PLUME_HAS_BATCHES // a scalar build has no wide types
 TEMPLATE_LIST_TEST_CASE("wide depenetration equals scalar per lane",
                         "[solver][depenetration][lanes]", wide_real_types) {
   using T = TestType;
@@ -119,7 +118,6 @@ TEMPLATE_LIST_TEST_CASE("wide depenetration equals scalar per lane",
   CHECK(failures == 0);
 }
 
-#endif
 
 TEST_CASE("2D depenetration", "[solver][depenetration][2d]") {
   std::array<Penetration<Vec2>, 2> const p = {Penetration<Vec2>{{0, 1}, 0.5f - 0.25f},
@@ -186,7 +184,6 @@ TEST_CASE("plane set: merging, rejection, capacity", "[solver][planes]") {
   }
 }
 
-#if PLUME_HAS_BATCHES
 TEMPLATE_LIST_TEST_CASE("wide plane sets equal scalar ones per lane", "[solver][planes][lanes]",
                         wide_real_types) {
   using T = TestType;
@@ -216,7 +213,6 @@ TEMPLATE_LIST_TEST_CASE("wide plane sets equal scalar ones per lane", "[solver][
       CHECK(same(lane(wide.normals()[i], l), GVec3<S>{}));
   }
 }
-#endif
 
 TEST_CASE("2D plane set and configurations scaled by a length unit", "[solver][planes][2d]") {
   Vec2 const v{1, -1};

@@ -1,4 +1,4 @@
-// plume/solver/plane_set.hpp - collects contact normals into the plane set that
+// plume/solver/character/plane_set.hpp - collects contact normals into the plane set that
 // project_velocity takes: normalised, nearly parallel normals merged, at most a maximum count.
 //
 //   PlaneSet3<T> set(velocity, cfg);   set.add(normal) ...;   set.normals()  (span of GVec3<T>)

@@ -1,0 +1,9 @@
+// plume/world.hpp - the world floor (target plume::world): bodies with shapes, the step
+// (broad phase, narrow phase and contact cache, the soft-step solver) and its profile.
+//
+//   World, BodyDef, BodyId, WorldConfig, Contact  (solver/world/world.hpp)
+//   SortAndSweep (the broad phase)                (solver/world/broad_phase.hpp)
+//   match_contact_impulses (warm starts)          (solver/world/contact_cache.hpp)
+#pragma once
+
+#include <plume/solver/world/world.hpp>
