@@ -7,10 +7,11 @@
 //   BodyState, GBodyState<T>, gather/scatter      (solver/body_state.hpp)
 //   GLaneArray, GLaneVec3, GLaneSym3              (solver/lane_storage.hpp)
 //   GContactConstraint<T> and its kernels         (solver/contact_constraint.hpp)
-//   ConstraintBlocks<C>: overflow + coloured SoA blocks (solver/constraint_blocks.hpp)
+//   GConstraintBlocks: overflow + coloured SoA blocks (solver/constraint_blocks.hpp)
 #pragma once
 
 #include <plume/solver/body_state.hpp>
+#include <plume/solver/constraint_blocks.hpp>
 #include <plume/solver/constraint_graph.hpp>
 #include <plume/solver/contact_constraint.hpp>
 #include <plume/solver/lane_storage.hpp>

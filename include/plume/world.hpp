@@ -3,7 +3,9 @@
 //
 //   World, BodyDef, BodyId, WorldConfig, Contact  (solver/world/world.hpp)
 //   SortAndSweep (the broad phase)                (solver/world/broad_phase.hpp)
-//   match_contact_impulses (warm starts)          (solver/world/contact_cache.hpp)
+//   ContactCache, carry_impulses (warm starts)    (solver/world/contact_cache.hpp)
 #pragma once
 
+#include <plume/solver/world/broad_phase.hpp>
+#include <plume/solver/world/contact_cache.hpp>
 #include <plume/solver/world/world.hpp>

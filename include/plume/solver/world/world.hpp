@@ -16,10 +16,13 @@
 // not depend on the width, no body appears twice in a colour, and every kernel is
 // lane-exact), and so does every deterministic build (scalar, sse2, avx2, avx512).
 //
-// Step: broad phase (AABBs grown by the speculative distance) -> manifolds -> colouring
-// -> prepare -> per substep: integrate velocities (gravity, damping), warm start, solve,
-// integrate positions, relax -> restitution -> store impulses -> poses. Overflow constraints
-// (no free colour) are solved first in each pass, one at a time, then the colours in order.
+// Step, in named stages (solver/world/step.cpp): find_pairs (broad phase, AABBs grown by the
+// speculative distance) -> collide_pairs (manifolds) -> the contact cache (warm starts,
+// colouring) -> prepare_bodies -> pack the constraints (solver/constraint_blocks.hpp) ->
+// per substep: integrate velocities (gravity, damping), warm start, solve, integrate
+// positions, relax -> restitution -> store impulses -> finalize_bodies (poses). Overflow
+// constraints (no free colour) are solved first in each pass, one at a time, then the
+// colours in order.
 //
 // Bad input: create_body() rejects a non-finite pose, velocity or material and a dynamic
 // body whose shape and density give no positive finite mass (BodyError; the world is
@@ -42,8 +45,11 @@
 #include <plume/math/mat3.hpp>
 #include <plume/math/vec3.hpp>
 #include <plume/solver/body_state.hpp>
+#include <plume/solver/constraint_blocks.hpp>
 #include <plume/solver/constraint_graph.hpp>
 #include <plume/solver/contact_constraint.hpp>
+#include <plume/solver/world/broad_phase.hpp>
+#include <plume/solver/world/contact_cache.hpp>
 
 #include <array>
 #include <cstddef>
@@ -104,9 +110,8 @@ struct WorldConfig {
   int substeps = 4;
   /// Gauss–Seidel passes per substep: with the soft bias (solve) and without (relax).
   /// Box2D's 2D solver runs 1 + 1; 3D boxes with 4-point manifolds couple more and converge
-  /// slower. Measured (10 s at 60 Hz, 60 Hz contacts): with 1 + 1 the 15-layer pyramid rocks
-  /// and creeps apart (top box 0.6 m off, kinetic energy growing); 1 + 3 holds it but the
-  /// 20-layer one still creeps; 2 + 3 holds both (15 layers: top box within 1 mm).
+  /// slower: 2 + 3 is the fewest that hold the 15- and 20-layer pyramids still for 10 s
+  /// (docs/performance.md, "World step", has the measurements).
   int solve_iterations = 2;
   int relax_iterations = 3;
   /// Contact stiffness (Hz), capped at a quarter of the substep rate (Box2D's cap: 60 Hz at
@@ -134,17 +139,6 @@ struct WorldConfig {
 /// Seconds spent in each part of the last step (std::chrono::steady_clock).
 struct StepProfile {
   double broad_phase = 0, narrow_phase = 0, prepare = 0, solve = 0, finalize = 0, total = 0;
-};
-
-/// A touching pair: manifold points and the impulses they carry to the next step.
-struct Contact {
-  std::uint32_t body_a = 0, body_b = 0; ///< body_a < body_b; the normal points from A to B
-  Manifold manifold;
-  Vec3 tangent{}; ///< first friction axis (unit, in the contact plane), kept across steps
-  ContactImpulses impulses{}; ///< per point along the normal, and the patch friction
-  float friction = 0.0f, restitution = 0.0f;
-  int color = ConstraintGraph::overflow;
-  bool dynamic_a = false, dynamic_b = false; ///< as the colouring saw them (for release)
 };
 
 class World {
@@ -182,7 +176,7 @@ public:
   void step_with(float dt);
 
   WorldConfig const& config() const noexcept { return config_; }
-  std::span<Contact const> contacts() const noexcept { return contacts_; }
+  std::span<Contact const> contacts() const noexcept { return cache_.contacts(); }
   /// Constraints per colour in the last step; index color_count is the overflow.
   std::array<std::size_t, ConstraintGraph::color_count + 1> const& color_sizes() const noexcept {
     return color_sizes_;
@@ -211,17 +205,29 @@ private:
     bool is_dynamic() const noexcept { return !frozen && type == BodyType::dynamic; }
   };
 
-  void update_contacts();
+  // The stages of a step, in order (solver/world/step.cpp).
+  void find_pairs();
+  void collide_pairs();
+  void prepare_bodies();
+  template <class T>
+  void pack_contacts(GConstraintBlocks<GContactConstraint, T>& blocks, float h) const;
+  template <class T>
+  void solve_substeps(GConstraintBlocks<GContactConstraint, T>& blocks, int substeps, float h);
   void integrate_velocities(float h);
   void integrate_positions(float h);
+  template <class T>
+  void store_impulses(GConstraintBlocks<GContactConstraint, T> const& blocks);
   void finalize_bodies();
   ContactBody contact_body(std::uint32_t i) const;
 
   WorldConfig config_;
   std::vector<Body> bodies_;
   std::vector<BodyState> states_; ///< one per body, then the shared identity record
-  std::vector<Contact> contacts_; ///< sorted by (body_a, body_b)
-  ConstraintGraph graph_;
+  SortAndSweep broad_phase_;
+  std::vector<Aabb3> boxes_;          ///< this step's grown AABBs, by body
+  std::vector<std::uint64_t> pairs_;  ///< this step's overlapping pairs (body_pair_key)
+  std::vector<PairManifold> found_;   ///< this step's manifolds, by pair
+  ContactCache cache_;
   std::vector<BodyId> frozen_;
   StepProfile profile_;
   std::array<std::size_t, ConstraintGraph::color_count + 1> color_sizes_{};

@@ -1,0 +1,78 @@
+// plume/solver/world/contact_cache.hpp - the world's touching pairs from step to step: each
+// step's manifolds matched with the previous step's contacts of the same body pair, so that
+// the solver starts from last step's impulses (warm starting) and keeps the friction axes
+// and the graph colour of a contact for its whole life.
+//
+// Matching a new manifold point to an old one (carry_impulses):
+//   1. the old point with the same feature id (collision/manifold.hpp), if unclaimed;
+//   2. else the nearest unclaimed old point within `match_distance` (m) of it, measured
+//      between the midpoints of the two surface points: clipping and reduction relabel
+//      points that have not moved.
+// An unmatched point starts from zero. The patch friction impulses carry over whole.
+// Colours: a contact keeps its colour; the colours of ended contacts are freed before new
+// contacts are coloured, in pair order, so the colouring depends only on the sequence of
+// steps, never on the SIMD width.
+#pragma once
+
+#include <plume/collision/manifold.hpp>
+#include <plume/math/vec3.hpp>
+#include <plume/solver/constraint_graph.hpp>
+#include <plume/solver/contact_constraint.hpp>
+#include <plume/solver/world/broad_phase.hpp>
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace plume {
+
+/// A touching pair: manifold points and the impulses they carry to the next step.
+struct Contact {
+  std::uint32_t body_a = 0, body_b = 0; ///< body_a < body_b; the normal points from A to B
+  Manifold manifold;
+  Vec3 tangent{}; ///< first friction axis (unit, in the contact plane), kept across steps
+  ContactImpulses impulses{}; ///< per point along the normal, and the patch friction
+  float friction = 0.0f, restitution = 0.0f;
+  int color = ConstraintGraph::overflow;
+  bool dynamic_a = false, dynamic_b = false; ///< as the colouring saw them (for release)
+};
+
+/// What the narrow phase found for one body pair this step (manifold.count == 0: apart).
+struct PairManifold {
+  std::uint64_t pair = 0; ///< body_pair_key(body_a, body_b)
+  Manifold manifold;
+  float friction = 0.0f, restitution = 0.0f; ///< the pair's combined material
+  bool dynamic_a = false, dynamic_b = false;
+};
+
+/// The warm-start impulses of manifold `now` taken from the previous step's manifold
+/// `before` of the same pair and its impulses (the matching rule at the top of this header).
+ContactImpulses carry_impulses(Manifold const& now, Manifold const& before,
+                               ContactImpulses const& impulses, float match_distance) noexcept;
+
+class ContactCache {
+public:
+  /// This step's contacts, sorted by (body_a, body_b).
+  std::span<Contact const> contacts() const noexcept { return contacts_; }
+  std::span<Contact> contacts() noexcept { return contacts_; }
+  /// The graph colour of every contact, in contact order (what the solver packs by).
+  std::vector<int> colors() const;
+
+  /// Room in the colouring for bodies 0..body_count-1.
+  void reserve_bodies(std::size_t body_count) { graph_.reserve(body_count); }
+
+  /// Replaces the contacts by the touching pairs of `found` (sorted by pair; pairs with an
+  /// empty manifold are dropped), each carrying over the tangent, impulses and colour of the
+  /// previous contact of its pair; contacts that ended free their colours, then the new
+  /// ones are coloured.
+  void update(std::span<PairManifold const> found, float match_distance);
+
+  /// Ends every contact of one of `bodies` (sorted indices), freeing its colour.
+  void remove_bodies(std::span<std::uint32_t const> bodies);
+
+private:
+  std::vector<Contact> contacts_;
+  ConstraintGraph graph_;
+};
+
+} // namespace plume

@@ -1,0 +1,248 @@
+// The world's step (include/plume/solver/world/world.hpp), stage by stage. Compiled once per
+// build, with World::step_with instantiated for float and every f32 width the build enables.
+#include <plume/solver/world/world.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace plume {
+
+namespace {
+
+using clock = std::chrono::steady_clock;
+
+double seconds_since(clock::time_point t0) {
+  return std::chrono::duration<double>(clock::now() - t0).count();
+}
+
+bool finite(Vec3 const& v) { return v.is_finite(); }
+bool finite(Quat const& q) { return q.is_finite(); }
+
+Manifold collide(BodyShape const& a, Iso3 const& pa, BodyShape const& b, Iso3 const& pb,
+                 ManifoldConfig const& cfg) {
+  return std::visit(
+      [&](auto const& sa, auto const& sb) { return contact_manifold(sa, pa, sb, pb, cfg); }, a, b);
+}
+
+/// v scaled down to length at most max. Not GVec3::clamp_length_max: for components near
+/// FLT_MAX the squared length overflows to inf and that scales v to 0; this one rescales first.
+Vec3 clamp_speed(Vec3 const& v, float max) {
+  float const len = v.length();
+  if (len <= max) return v;
+  float const m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+  if (!(m > 0.0f) || !std::isfinite(m)) return v; // NaN or inf: the finite check catches it
+  Vec3 const u = v / m;
+  return u * (max / u.length());
+}
+
+} // namespace
+
+/// Broad phase: the pairs of grown AABBs that overlap, at least one body dynamic.
+void World::find_pairs() {
+  float const margin = config_.speculative_distance;
+  boxes_.resize(bodies_.size());
+  for (std::uint32_t i = 0; i < bodies_.size(); ++i) {
+    Aabb3 const box = aabb(BodyId{i});
+    boxes_[i] = {box.min - Vec3::splat(margin), box.max + Vec3::splat(margin)};
+  }
+  broad_phase_.find_pairs(
+      boxes_,
+      [&](std::uint32_t a, std::uint32_t b) {
+        return bodies_[a].is_dynamic() || bodies_[b].is_dynamic();
+      },
+      pairs_);
+}
+
+/// Narrow phase: a manifold per pair, then the contact cache matches them with last step's.
+void World::collide_pairs() {
+  found_.resize(pairs_.size());
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    Body const& a = bodies_[body_pair_first(pairs_[k])];
+    Body const& b = bodies_[body_pair_second(pairs_[k])];
+    found_[k] = {pairs_[k], collide(a.shape, a.pose, b.shape, b.pose, config_.manifold),
+                 std::sqrt(a.friction * b.friction), std::max(a.restitution, b.restitution),
+                 a.is_dynamic(), b.is_dynamic()};
+  }
+  cache_.update(found_, config_.contact_match_distance);
+}
+
+/// World inverse inertias at the step's start; the position deltas start at zero.
+void World::prepare_bodies() {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    Body& b = bodies_[i];
+    if (b.is_dynamic()) {
+      Mat3 const r = Mat3::from_quat(b.pose.rotation);
+      b.inv_inertia_world = b.inv_inertia_local.rotate_inertia(r);
+    }
+    states_[i].delta_position = Vec3{};
+    states_[i].delta_rotation = Quat::IDENTITY;
+  }
+}
+
+ContactBody World::contact_body(std::uint32_t i) const {
+  Body const& b = bodies_[i];
+  ContactBody c;
+  if (!b.moves()) {
+    c.state = std::int32_t(bodies_.size()); // the identity record
+    c.center = b.center;
+    return c;
+  }
+  c.state = std::int32_t(i);
+  c.center = b.center;
+  c.linear_velocity = states_[i].linear_velocity;
+  c.angular_velocity = states_[i].angular_velocity;
+  if (b.is_dynamic()) {
+    c.write = std::int32_t(i);
+    c.inv_mass = b.inv_mass;
+    c.inv_inertia = b.inv_inertia_world;
+  }
+  return c;
+}
+
+/// The contacts packed into blocks by colour, each lane prepared for substep h.
+template <class T>
+void World::pack_contacts(GConstraintBlocks<GContactConstraint, T>& blocks, float h) const {
+  float const hertz = std::min(config_.contact_hertz, 0.25f * (1.0f / h));
+  Softness const soft = Softness::make(hertz, config_.contact_damping_ratio, h);
+  Softness const static_soft =
+      Softness::make(config_.static_hertz_scale * hertz, config_.contact_damping_ratio, h);
+  std::span<Contact const> const contacts = cache_.contacts();
+  std::int32_t const identity = std::int32_t(bodies_.size());
+  blocks.pack(
+      cache_.colors(),
+      [&]<class U>(GContactConstraint<U>& block, std::size_t lane, std::uint32_t ci) {
+        Contact const& c = contacts[ci];
+        ContactBody const a = contact_body(c.body_a), b = contact_body(c.body_b);
+        bool const against_static = a.write < 0 || b.write < 0;
+        prepare_contact_lane(block, lane, a, b, c.manifold, c.tangent, c.impulses, c.friction,
+                             c.restitution, against_static ? static_soft : soft);
+      },
+      [&](GContactConstraint<T>& block, std::size_t lane) {
+        clear_contact_lane(block, lane, identity);
+      });
+}
+
+/// The substeps: velocities, warm start, solve, positions, relax; then restitution.
+template <class T>
+void World::solve_substeps(GConstraintBlocks<GContactConstraint, T>& blocks, int substeps,
+                           float h) {
+  int const solve_iterations = std::max(1, config_.solve_iterations);
+  int const relax_iterations = std::max(0, config_.relax_iterations);
+  float const inv_h = 1.0f / h;
+  float const push = config_.max_push_speed;
+  BodyState* const states = states_.data();
+  for (int sub = 0; sub < substeps; ++sub) {
+    integrate_velocities(h);
+    blocks.for_each([&](auto& c) { warm_start_contacts(c, states); });
+    for (int r = 0; r < solve_iterations; ++r)
+      blocks.for_each([&](auto& c) { solve_contacts(c, states, inv_h, push, true); });
+    integrate_positions(h);
+    for (int r = 0; r < relax_iterations; ++r)
+      blocks.for_each([&](auto& c) { solve_contacts(c, states, inv_h, push, false); });
+  }
+  float const threshold = config_.restitution_threshold;
+  blocks.for_each([&](auto& c) { apply_restitution(c, states, threshold); });
+}
+
+void World::integrate_velocities(float h) {
+  Vec3 const g = config_.gravity;
+  float const max_w = config_.max_rotation / h;
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    Body const& b = bodies_[i];
+    if (!b.is_dynamic()) continue;
+    BodyState& s = states_[i];
+    Vec3 v = s.linear_velocity * (1.0f / (1.0f + h * b.linear_damping)) + g * (h * b.gravity_scale);
+    Vec3 w = s.angular_velocity * (1.0f / (1.0f + h * b.angular_damping));
+    s.linear_velocity = clamp_speed(v, config_.max_linear_speed);
+    s.angular_velocity = clamp_speed(w, max_w);
+  }
+}
+
+void World::integrate_positions(float h) {
+  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    if (!bodies_[i].moves()) continue;
+    BodyState& s = states_[i];
+    s.delta_position = s.delta_position + s.linear_velocity * h;
+    Vec3 const w = s.angular_velocity;
+    Quat const spin = Quat::from_xyzw(w.x, w.y, w.z, 0.0f) * s.delta_rotation;
+    Quat const q = s.delta_rotation + spin * (0.5f * h);
+    s.delta_rotation = q * (1.0f / q.length());
+  }
+}
+
+/// Each contact keeps the impulses its lane accumulated, to warm start the next step.
+template <class T>
+void World::store_impulses(GConstraintBlocks<GContactConstraint, T> const& blocks) {
+  std::span<Contact> const contacts = cache_.contacts();
+  blocks.for_each_lane([&](auto const& c, std::size_t lane, std::uint32_t ci) {
+    contacts[ci].impulses = contact_impulses(c, lane);
+  });
+}
+
+/// Poses from the accumulated deltas; a body whose state turned non-finite is frozen.
+void World::finalize_bodies() {
+  std::vector<std::uint32_t> newly_frozen;
+  for (std::uint32_t i = 0; i < bodies_.size(); ++i) {
+    Body& b = bodies_[i];
+    if (!b.moves()) continue;
+    BodyState& s = states_[i];
+    Vec3 const center = b.center + s.delta_position;
+    Quat q = s.delta_rotation * b.pose.rotation;
+    q = q * (1.0f / q.length());
+    if (!finite(center) || !finite(q) || !finite(s.linear_velocity) ||
+        !finite(s.angular_velocity)) {
+      b.frozen = true; // stays where the step began, stopped
+      s = BodyState{};
+      newly_frozen.push_back(i);
+      frozen_.push_back(BodyId{i});
+      continue;
+    }
+    b.center = center;
+    b.pose.rotation = q;
+    b.pose.translation = center - q * b.local_center;
+    s.delta_position = Vec3{};
+    s.delta_rotation = Quat::IDENTITY;
+  }
+  // Their contacts end now; the next step finds them again with the body static.
+  cache_.remove_bodies(newly_frozen);
+}
+
+template <class T>
+void World::step_with(float dt) {
+  if (!(dt > 0.0f) || !std::isfinite(dt)) return;
+  auto const t_start = clock::now();
+  find_pairs();
+  profile_.broad_phase = seconds_since(t_start);
+
+  auto const t_narrow = clock::now();
+  collide_pairs();
+  profile_.narrow_phase = seconds_since(t_narrow);
+
+  auto const t_prepare = clock::now();
+  int const substeps = std::max(1, config_.substeps);
+  float const h = dt / float(substeps);
+  prepare_bodies();
+  GConstraintBlocks<GContactConstraint, T> blocks;
+  pack_contacts(blocks, h);
+  color_sizes_ = blocks.color_sizes();
+  profile_.prepare = seconds_since(t_prepare);
+
+  auto const t_solve = clock::now();
+  solve_substeps(blocks, substeps, h);
+  profile_.solve = seconds_since(t_solve);
+
+  auto const t_finalize = clock::now();
+  store_impulses(blocks);
+  finalize_bodies();
+  profile_.finalize = seconds_since(t_finalize);
+  profile_.total = seconds_since(t_start);
+}
+
+void World::step(float dt) { step_with<f32xN>(dt); }
+
+#define PLUME_INSTANTIATE_STEP(T, lanes) template void World::step_with<T>(float);
+PLUME_FOR_EACH_F32_TYPE(PLUME_INSTANTIATE_STEP)
+#undef PLUME_INSTANTIATE_STEP
+
+} // namespace plume

@@ -1,0 +1,92 @@
+// The contact cache: warm-start impulses by feature id, then by the nearest point, and
+// contacts and colours carried across steps.
+#include <plume/solver/world/contact_cache.hpp>
+
+#include <catch2/catch.hpp>
+
+using namespace plume;
+
+namespace {
+
+Manifold manifold_of(std::initializer_list<std::pair<std::uint32_t, Vec3>> points) {
+  Manifold m;
+  m.normal = Vec3::Y;
+  for (auto const& [id, at] : points) {
+    ContactPoint& p = m.points[std::size_t(m.count++)];
+    p.id = id;
+    p.point_a = at;
+    p.point_b = at;
+  }
+  return m;
+}
+
+} // namespace
+
+TEST_CASE("carry_impulses: feature ids first, then the nearest point within reach",
+          "[world][contact-cache]") {
+  ContactImpulses before;
+  before.normal = {1.0f, 2.0f, 3.0f, 4.0f};
+  before.tangent1 = 0.5f;
+  before.tangent2 = -0.25f;
+  before.twist = 0.125f;
+  Manifold const old = manifold_of({{10, {0, 0, 0}}, {11, {1, 0, 0}}, {12, {0, 0, 1}}, {13, {5, 0, 5}}});
+  // id 11 kept (moved far: still matched by id); id 99 new, 0.004 m from id 10's point
+  // (matched by distance); id 13 kept; id 97 new, far from everything: starts at zero.
+  Manifold const now = manifold_of(
+      {{11, {3, 0, 3}}, {99, {0.004f, 0, 0}}, {13, {5, 0, 5}}, {97, {-3, 0, -3}}});
+  ContactImpulses const got = carry_impulses(now, old, before, 0.01f);
+  CHECK(got.normal[0] == 2.0f);
+  CHECK(got.normal[1] == 1.0f);
+  CHECK(got.normal[2] == 4.0f);
+  CHECK(got.normal[3] == 0.0f);
+  CHECK(got.tangent1 == 0.5f);
+  CHECK(got.tangent2 == -0.25f);
+  CHECK(got.twist == 0.125f);
+  // Out of reach: 0.011 m from the nearest old point with a 0.01 m reach.
+  Manifold const far = manifold_of({{50, {0.011f, 0, 0}}});
+  CHECK(carry_impulses(far, old, before, 0.01f).normal[0] == 0.0f);
+  // Each old point is claimed once: two new points near id 10's point, the nearer wins.
+  Manifold const two = manifold_of({{60, {0.006f, 0, 0}}, {61, {0.002f, 0, 0}}});
+  ContactImpulses const pair = carry_impulses(two, old, before, 0.01f);
+  CHECK(pair.normal[0] == 1.0f); // the first new point claims it: matching is in point order
+  CHECK(pair.normal[1] == 0.0f);
+}
+
+TEST_CASE("contact cache: contacts persist by pair, keep colours, end when apart",
+          "[world][contact-cache]") {
+  ContactCache cache;
+  cache.reserve_bodies(4);
+  auto found = [](std::uint32_t a, std::uint32_t b, int points) {
+    PairManifold f;
+    f.pair = body_pair_key(a, b);
+    f.manifold = manifold_of({});
+    for (int i = 0; i < points; ++i) {
+      ContactPoint& p = f.manifold.points[std::size_t(f.manifold.count++)];
+      p.id = std::uint32_t(i);
+    }
+    f.friction = 0.5f;
+    f.dynamic_a = f.dynamic_b = true;
+    return f;
+  };
+  std::vector<PairManifold> step1{found(0, 1, 1), found(1, 2, 2), found(2, 3, 0)};
+  cache.update(step1, 0.01f);
+  REQUIRE(cache.contacts().size() == 2); // the empty manifold is no contact
+  CHECK(cache.contacts()[0].body_a == 0);
+  CHECK(cache.contacts()[1].body_b == 2);
+  int const c01 = cache.contacts()[0].color, c12 = cache.contacts()[1].color;
+  CHECK(c01 != c12); // both touch body 1
+  cache.contacts()[1].impulses.normal[1] = 7.0f;
+  std::vector<PairManifold> step2{found(1, 2, 2), found(2, 3, 1)};
+  cache.update(step2, 0.01f);
+  REQUIRE(cache.contacts().size() == 2);
+  CHECK(cache.contacts()[0].color == c12); // kept
+  CHECK(cache.contacts()[0].impulses.normal[1] == 7.0f); // warm start by feature id
+  CHECK(cache.contacts()[1].impulses.normal[0] == 0.0f); // new
+  std::vector<std::uint32_t> const frozen{2};
+  cache.remove_bodies(frozen);
+  CHECK(cache.contacts().empty());
+  // Every colour was freed: a new contact of body 1 takes colour 0 again.
+  std::vector<PairManifold> step3{found(0, 1, 1)};
+  cache.update(step3, 0.01f);
+  CHECK(cache.contacts()[0].color == 0);
+}
