@@ -16,16 +16,15 @@
 # Output: build/report/width_report.md, width_report.png (chart) and the raw JSON.
 # PLUME_REPORT_ROUNDS (default 5), PLUME_REPORT_REPS (repetitions per round, default 1) and
 # PLUME_REPORT_MIN_TIME (seconds, default 0.1) tune the run.
+# Each build is its CMakePresets.json preset with the tests off; which variants this CPU
+# runs is decided in one place, tools/cpu_gate.cpp (via tools/variants.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-root=$PWD
+source tools/variants.sh
 
 bash tools/install_deps.sh
 
-has() { grep -qw "$1" /proc/cpuinfo; }
-variants=(scalar sse2)
-has avx2 && variants+=(avx2)
-has avx512f && has avx512bw && has avx512dq && has avx512cd && has avx512vl && variants+=(avx512)
+mapfile -t variants < <(plume_runnable_variants)
 widest=${variants[${#variants[@]} - 1]}
 
 out=build/report
@@ -35,9 +34,8 @@ args=()
 for v in "${variants[@]}"; do
   dir=build/report-$v
   echo "plume: building the $v variant in $dir"
-  cmake -S "$root" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DPLUME_SIMD="$v" \
-    -DPLUME_BUILD_TESTS=OFF -DPLUME_BUILD_BENCH=ON >/dev/null
-  cmake --build "$dir" -j "$(nproc 2>/dev/null || echo 2)" >/dev/null
+  plume_configure "$v" "$dir" -DPLUME_BUILD_TESTS=OFF
+  plume_build "$dir" >/dev/null
 done
 rounds=${PLUME_REPORT_ROUNDS:-5}
 for ((r = 1; r <= rounds; r++)); do

@@ -12,10 +12,12 @@
 #    must print the same golden hashes (each also compares with tests/determinism/golden.txt);
 # 5. every benchmark binary of every variant, once, with a tiny time budget;
 # 6. the generated code of the hot wide kernels (tools/kernel_loops.py): no calls out of line.
-# Build folders: build/ci-<variant>. Exit status 0 only if everything passed.
+# Every build is a preset of CMakePresets.json (build folder build/ci-<preset>), and which
+# variants this CPU runs is decided in one place, tools/cpu_gate.cpp (via tools/variants.sh).
+# Exit status 0 only if everything passed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-root=$PWD
+source tools/variants.sh
 
 bash tools/install_deps.sh
 
@@ -26,21 +28,17 @@ start=$(date +%s)
 
 step() { printf '\n=== %s (%ds)\n' "$*" $(($(date +%s) - start)); }
 
-configure_build() { # <dir> <cmake args...>
-  local dir=$1
+configure_build() { # <preset> [cmake args...]: build/ci-<preset>, warnings are errors
+  local preset=$1
   shift
-  cmake -S "$root" -B "$dir" -G Ninja -DCMAKE_BUILD_TYPE=Release -DPLUME_BUILD_TESTS=ON \
-    -DCMAKE_CXX_FLAGS=-Werror "$@" >"$dir.configure.log" 2>&1 || {
-    cat "$dir.configure.log"
-    return 1
-  }
-  cmake --build "$dir" -j "$jobs"
+  plume_configure "$preset" "build/ci-$preset" -DCMAKE_COMPILE_WARNING_AS_ERROR=ON "$@" &&
+    plume_build "build/ci-$preset"
 }
 
 mkdir -p build
 for v in "${variants[@]}"; do
   step "variant $v: build"
-  if ! configure_build "build/ci-$v" -DPLUME_SIMD="$v" -DPLUME_BUILD_BENCH=ON; then
+  if ! configure_build "$v"; then
     failed+=("$v build")
     continue
   fi
@@ -49,11 +47,11 @@ for v in "${variants[@]}"; do
 done
 
 step "sanitizers (address, undefined): build"
-# -O0 -g1: optimising the sanitizers' instrumentation of the lane-exactness tests takes ten
-# times longer (over 8 minutes per math test file at -O1 on 2 cores); at -O0 PLUME_INLINE
-# does not force inlining (config.hpp), and -g1 keeps line numbers in reports.
-if configure_build build/ci-sanitize -DPLUME_SIMD=avx2 -DPLUME_BUILD_BENCH=OFF \
-  -DPLUME_SANITIZE=address,undefined -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O0 -g1"; then
+# The preset builds at -O0 -g1: optimising the sanitizers' instrumentation of the
+# lane-exactness tests takes ten times longer (over 8 minutes per math test file at -O1 on
+# 2 cores); at -O0 PLUME_INLINE does not force inlining (config.hpp), and -g1 keeps line
+# numbers in reports.
+if configure_build sanitize; then
   step "sanitizers: tests"
   ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     ctest --test-dir build/ci-sanitize --output-on-failure -j "$jobs" || failed+=("sanitize tests")
@@ -62,8 +60,7 @@ else
 fi
 
 step "clang (avx2): build"
-if command -v clang++ >/dev/null && configure_build build/ci-clang-avx2 -DCMAKE_CXX_COMPILER=clang++ \
-  -DPLUME_SIMD=avx2 -DPLUME_BUILD_BENCH=ON; then
+if command -v clang++ >/dev/null && configure_build clang-avx2; then
   step "clang (avx2): tests"
   ctest --test-dir build/ci-clang-avx2 --output-on-failure -j "$jobs" || failed+=("clang tests")
 else
@@ -75,7 +72,7 @@ ref=""
 for v in "${variants[@]}" clang-avx2; do
   g=build/ci-$v/tests/plume_golden
   [ -x "$g" ] || continue
-  if ! build/ci-$v/tests/plume_cpu_gate "${v#clang-}" /bin/true >/dev/null 2>&1; then
+  if ! plume_cpu_runs "${v#clang-}"; then
     echo "determinism: $v skipped (this CPU lacks its instruction set)"
     continue
   fi
@@ -94,7 +91,7 @@ step "benchmarks, once each"
 for v in "${variants[@]}" clang-avx2; do
   for b in build/ci-$v/bench/plume_bench_*; do
     [ -x "$b" ] || continue
-    if ! build/ci-$v/tests/plume_cpu_gate "${v#clang-}" /bin/true >/dev/null 2>&1; then
+    if ! plume_cpu_runs "${v#clang-}"; then
       echo "bench: $b skipped (this CPU lacks the $v instruction set)"
       continue
     fi
