@@ -12,12 +12,36 @@ Prints and writes OUT_DIR/width_report.md with two tables:
                     other build, with the speed-up over the scalar build
   within one build  every implementation and width of the WIDEST build, with the ratio to
                     plume x1 measured in the same run (the figure to quote on a noisy machine)
-and, when matplotlib is available, OUT_DIR/width_report.png (the across-builds speed-ups).
+and, when matplotlib is available, OUT_DIR/width_report.png: one panel per floor (the
+benchmark binary's floor), horizontal bars of plume's widths and each peer at its fastest
+width within the WIDEST build, as speed-ups over plume x1 of the same run.
 """
 import json
 import os
 import sys
 from collections import OrderedDict, defaultdict
+
+
+# The floor each benchmark binary measures (docs/architecture.md), in the chart's order.
+FLOORS = OrderedDict([
+    ("numerics", ["plume_bench_numerics"]),
+    ("math", ["plume_bench_math"]),
+    ("collision", ["plume_bench_collision", "plume_bench_gjk", "plume_bench_ray_scene"]),
+    ("spatial", ["plume_bench_spatial"]),
+    ("character", ["plume_bench_character"]),
+    ("solver", ["plume_bench_solver"]),
+    ("world", ["plume_bench_world"]),
+])
+FLOOR_OF = {b: f for f, bins in FLOORS.items() for b in bins}
+
+
+def floor_of_path(path):
+    """report.sh names its files <variant>.<binary>.r<round>.json."""
+    parts = os.path.basename(path).split(".")
+    return FLOOR_OF.get(parts[1] if len(parts) > 2 else "", "other")
+
+
+CASE_FLOOR = {}  # case -> floor, filled by load()
 
 
 def load(paths):
@@ -43,6 +67,7 @@ def load(paths):
             if len(parts) < 4 or not parts[-1].startswith("x"):
                 continue
             case = "/".join(parts[:-2])
+            CASE_FLOOR[case] = floor_of_path(path)
             runs[(case, parts[-2], int(parts[-1][1:]))].append(float(ips))
     table = OrderedDict()
     for (case, impl, width), vals in runs.items():
@@ -73,6 +98,84 @@ def table_lines(table, cols, base_of, fmt_base):
                 cells.append(human(v))
         lines.append(f"| {case} | " + " | ".join(cells) + " |")
     return lines
+
+
+def chart_rows(within, floor):
+    """The bars of one floor's panel: per case, plume at every width, then each peer at its
+    fastest width, as (case, label, impl, items/s, ratio to plume x1)."""
+    rows = []
+    for case, row in within.items():
+        if CASE_FLOOR.get(case, "other") != floor:
+            continue
+        base = row.get(("plume", 1))
+        if not base:
+            continue
+        bars = [(f"plume x{w}", "plume", v) for (i, w), v in sorted(row.items()) if i == "plume"]
+        best = {}
+        for (i, w), v in row.items():
+            if i != "plume" and v > best.get(i, (0, 0))[1]:
+                best[i] = (w, v)
+        bars += [(f"{i} x{w}", i, v) for i, (w, v) in sorted(best.items())]
+        rows.append((case, [(label, impl, v, v / base) for label, impl, v in bars]))
+    return rows
+
+
+def draw_chart(plt, within, widest, host, png):
+    """One panel per floor, horizontal bars: the speed-up over plume x1 of the same run for
+    plume's widths and each peer at its fastest width, the throughput written at each bar."""
+    panels = [(f, chart_rows(within, f)) for f in list(FLOORS) + ["other"]]
+    panels = [(f, rows) for f, rows in panels if rows]
+    if not panels:
+        return False
+    bar_h, gap = 0.16, 0.22  # inches per bar, and between cases
+    height = {f: 0.9 + sum(len(b) * bar_h + gap for _, b in rows) for f, rows in panels}
+    columns = [[], []]  # two columns of panels, each floor to the shorter one
+    for f, rows in sorted(panels, key=lambda p: -height[p[0]]):
+        col = min(columns, key=lambda c: sum(height[x] for x, _ in c))
+        col.append((f, rows))
+    order = [f for f, _ in panels]
+    for c in columns:
+        c.sort(key=lambda p: order.index(p[0]))
+    total = max(sum(height[f] for f, _ in c) for c in columns)
+    fig = plt.figure(figsize=(15, total + 1.0))
+    impls = sorted({impl for _, rows in panels for _, bars in rows for _, impl, _, _ in bars},
+                   key=lambda i: (i != "plume", i))
+    cmap = plt.get_cmap("tab10")
+    color = {i: cmap(k % 10) for k, i in enumerate(impls)}
+    shades = {}  # plume's widths: darker for wider
+    for k, c in enumerate(columns):
+        top = 1.0 - 0.7 / (total + 1.0)
+        for f, rows in c:
+            h = height[f] / (total + 1.0)
+            ax = fig.add_axes([0.16 + 0.5 * k, top - h + 0.5 / (total + 1.0), 0.3, h - 0.75 / (total + 1.0)])
+            top -= h
+            y, ticks, labels = 0.0, [], []
+            for case, bars in rows:
+                ticks.append(y + (len(bars) - 1) * bar_h / 2)
+                labels.append(case)
+                for label, impl, v, ratio in bars:
+                    if impl == "plume":
+                        w = int(label.split("x")[-1])
+                        shade = shades.setdefault(w, 0.35 + 0.15 * len(shades))
+                        col = plt.get_cmap("Blues")(min(1.0, shade + 0.2))
+                    else:
+                        col = color[impl]
+                    ax.barh(y, ratio, height=bar_h * 0.9, color=col)
+                    ax.text(ratio, y, f" {label} {human(v)}/s", va="center", fontsize=6.5)
+                    y += bar_h
+                y += gap
+            ax.set_yticks(ticks)
+            ax.set_yticklabels(labels, fontsize=8)
+            ax.invert_yaxis()
+            ax.axvline(1.0, color="grey", lw=0.6)
+            ax.set_xlabel("speed-up over plume x1 (same run)", fontsize=8)
+            ax.tick_params(axis="x", labelsize=7)
+            ax.set_title(f"{f}", fontsize=10, loc="left", fontweight="bold")
+            ax.set_xlim(0, max(r for _, b in rows for _, _, _, r in b) * 1.45)
+    fig.suptitle(f"plume width report: the {widest} build, plume's widths and the peers ({host})",
+                 fontsize=11, y=1.0 - 0.25 / (total + 1.0))
+    fig.savefig(png, dpi=100)
+    return True
 
 
 def main():
@@ -137,23 +240,9 @@ def main():
     except ImportError:
         print("(matplotlib not available: no chart)")
         return 0
-    cases = [c for c in across if ("scalar", 1) in across[c]]
-    if not cases:
-        return 0
-    fig, ax = plt.subplots(figsize=(max(8, 0.6 * len(cases)), 5))
-    bw = 0.8 / max(1, len(across_cols))
-    for j, c in enumerate(across_cols):
-        ys = [across[k].get(c, 0) / across[k][("scalar", 1)] for k in cases]
-        ax.bar([i + j * bw for i in range(len(cases))], ys, bw, label=f"{c[0]} build" + ("" if c[0] == "scalar" else f" (x{c[1]} f32)"))
-    ax.set_xticks([i + 0.4 - bw / 2 for i in range(len(cases))])
-    ax.set_xticklabels(cases, rotation=60, ha="right", fontsize=8)
-    ax.set_ylabel("speed-up over the scalar build")
-    ax.set_title(f"plume: throughput by build variant and width ({host})")
-    ax.legend()
-    fig.tight_layout()
     png = os.path.join(out_dir, "width_report.png")
-    fig.savefig(png, dpi=110)
-    print(f"chart: {png}")
+    if draw_chart(plt, within, widest, host, png):
+        print(f"chart: {png}")
     return 0
 
 

@@ -88,35 +88,24 @@ int main() {
                           std::abs(m.min_separation() + 0.1f) < 1e-4f;
   std::printf("consumer: hull %zu faces, mass %g, distance %g, toi %g, depth %g, %d contacts\n",
               rock.faces().size(), mass.mass, d.distance, sweep.toi, p.depth, m.count);
-  // The README's world example, with a 4-layer pyramid (30 boxes) to stay quick, solved at
-  // the widest width and at x1: the same bits.
+  // The README's world example, solved at the widest width and at x1: the same bits.
   auto const run_world = [](bool scalar) {
     World world;
     world.create_body({.type = BodyType::static_body, .shape = HalfSpace{Vec3::Y}});
-    std::vector<BodyId> boxes;
-    for (int layer = 0; layer < 4; ++layer) // n x n unit cubes on layer 4 - n
-      for (int n = 4 - layer, j = 0; j < n * n; ++j) {
-        Vec3 const at{float(j / n) - 0.5f * float(n - 1), 0.5f + float(layer),
-                      float(j % n) - 0.5f * float(n - 1)};
-        boxes.push_back(world
-                            .create_body({.pose = Iso3::from_translation(at),
-                                          .shape = Cuboid{Vec3::splat(0.5f)}})
-                            .id);
-      }
-    BodyDef ball;
-    ball.shape = Sphere{0.25f};
-    ball.restitution = 0.5f;
-    ball.pose = Iso3::from_translation({0, 20, 0});
-    CreateBodyResult made = world.create_body(ball);
+    BodyId box = world.create_body({.pose = Iso3::from_translation({0, 2, 0}),
+                                    .shape = Cuboid{Vec3::splat(0.5f)}})
+                     .id;
+    CreateBodyResult made = world.create_body(
+        {.pose = Iso3::from_translation({0, 20, 0}), .shape = Sphere{0.25f}, .restitution = 0.5f});
     if (!made) std::puts(to_string(made.error).data());
-    for (int i = 0; i < 120; ++i)
+    for (int i = 0; i < 600; ++i)
       scalar ? world.step_with<float>(1.0f / 60.0f) : world.step(1.0f / 60.0f);
-    Iso3 const top = world.pose(boxes.back());
-    return std::pair{top.translation.y, world.state_hash()};
+    Iso3 const where = world.pose(box);
+    return std::pair{where.translation.y, world.state_hash()};
   };
   auto const [top_y, hash] = run_world(false);
-  bool const world_ok = std::abs(top_y - 3.5f) < 0.05f && run_world(true).second == hash;
-  std::printf("consumer: pyramid top at y = %g, world hash %016llx\n", top_y,
+  bool const world_ok = std::abs(top_y - 0.5f) < 0.05f && run_world(true).second == hash;
+  std::printf("consumer: box at y = %g, world hash %016llx\n", top_y,
               (unsigned long long)hash);
   return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok && solver_ok &&
           ray_ok && contact_ok && world_ok)
