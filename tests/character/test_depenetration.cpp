@@ -90,7 +90,7 @@ TEST_CASE("depenetration: rejection, bad input, scaling", "[solver][depenetratio
   CHECK(DepenetrationConfig<float>::scaled(100).max_error == 1e-4f * 100);
 }
 
-TEMPLATE_LIST_TEST_CASE("wide depenetration equals scalar per lane",
+PLUME_WIDE_TEST_CASE("wide depenetration equals scalar per lane",
                         "[solver][depenetration][lanes]", wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;
@@ -184,7 +184,7 @@ TEST_CASE("plane set: merging, rejection, capacity", "[solver][planes]") {
   }
 }
 
-TEMPLATE_LIST_TEST_CASE("wide plane sets equal scalar ones per lane", "[solver][planes][lanes]",
+PLUME_WIDE_TEST_CASE("wide plane sets equal scalar ones per lane", "[solver][planes][lanes]",
                         wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;

@@ -436,7 +436,7 @@ wide_case<T> make_wide_case(rng& r, std::size_t max_k) {
 
 } // namespace
 
-TEMPLATE_LIST_TEST_CASE("wide projection equals scalar per lane, different plane counts",
+PLUME_WIDE_TEST_CASE("wide projection equals scalar per lane, different plane counts",
                         "[solver][projection][lanes]", wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;
@@ -466,7 +466,7 @@ TEMPLATE_LIST_TEST_CASE("wide projection equals scalar per lane, different plane
   CHECK(failures == 0);
 }
 
-TEMPLATE_LIST_TEST_CASE("wide 2D projection equals scalar per lane",
+PLUME_WIDE_TEST_CASE("wide 2D projection equals scalar per lane",
                         "[solver][projection][lanes][2d]", wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;
@@ -503,7 +503,7 @@ TEMPLATE_LIST_TEST_CASE("wide 2D projection equals scalar per lane",
   CHECK(failures == 0);
 }
 
-TEMPLATE_LIST_TEST_CASE("a NaN in one lane leaves the other lanes untouched",
+PLUME_WIDE_TEST_CASE("a NaN in one lane leaves the other lanes untouched",
                         "[solver][projection][lanes]", wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;

@@ -271,7 +271,7 @@ TEST_CASE("mass properties: closed forms, slices, hulls, parallel axes", "[colli
   CHECK(Segment{{0, 0, 0}, {2, 0, 0}}.mass_properties(rho).center.x == 1);
 }
 
-TEMPLATE_LIST_TEST_CASE("wide polytopes and mass properties are lane-exact",
+PLUME_WIDE_TEST_CASE("wide polytopes and mass properties are lane-exact",
                         "[collision][hull][lanes]", wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;

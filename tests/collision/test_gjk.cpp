@@ -667,7 +667,7 @@ TEST_CASE("GJK family: far coordinates, degenerate shapes, starting on the surfa
   CHECK(!ray_cast_gjk(box, here, Ray3{{-5, 1.001f, 0}, {1, 0, 0}}, 10.0f).hit);
 }
 
-TEMPLATE_LIST_TEST_CASE("GJK queries are lane-exact", "[collision][gjk][lanes]", wide_real_types) {
+PLUME_WIDE_TEST_CASE("GJK queries are lane-exact", "[collision][gjk][lanes]", wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;
   rng r(77);

@@ -703,7 +703,7 @@ bool same_hit(H const& a, H const& b) {
          same(a.feature, b.feature);
 }
 
-TEMPLATE_LIST_TEST_CASE("triangle casts are lane-exact, on shared edges and vertices too",
+PLUME_WIDE_TEST_CASE("triangle casts are lane-exact, on shared edges and vertices too",
                         "[collision][ray][lanes]", wide_real_types) {
   // The triangle cast takes a branch for a whole batch when any lane has an edge function
   // exactly zero (a ray through an edge or a vertex): that lane is recomputed in double and
@@ -790,7 +790,7 @@ TEMPLATE_LIST_TEST_CASE("triangle casts are lane-exact, on shared edges and vert
   CHECK(failures == 0);
 }
 
-TEMPLATE_LIST_TEST_CASE("every ray cast is lane-exact", "[collision][ray][lanes]",
+PLUME_WIDE_TEST_CASE("every ray cast is lane-exact", "[collision][ray][lanes]",
                         wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;

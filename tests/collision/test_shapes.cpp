@@ -116,7 +116,7 @@ TEST_CASE("support points and boxes at a pose", "[collision][shapes]") {
   (void)r;
 }
 
-TEMPLATE_LIST_TEST_CASE("shape methods are lane-exact", "[collision][shapes][lanes]",
+PLUME_WIDE_TEST_CASE("shape methods are lane-exact", "[collision][shapes][lanes]",
                         wide_real_types) {
   using T = TestType;
   rng r(6);

@@ -19,3 +19,17 @@ using int_types =
     type_list_cat_t<type_list<std::int32_t, std::uint32_t>, i32_widths, u32_widths>;
 
 } // namespace plume::test
+
+/// TEMPLATE_LIST_TEST_CASE over a list of wide types only (test::wide_real_types, f32_widths):
+/// a scalar build has none, and Catch2 expands an empty list into a zero-size array (an error
+/// under -Wpedantic), so there the test body compiles as a template that is never
+/// instantiated and nothing is registered.
+#if PLUME_HAS_BATCHES
+#define PLUME_WIDE_TEST_CASE(name, tags, list) TEMPLATE_LIST_TEST_CASE(name, tags, list)
+#else
+#define PLUME_WIDE_TEST_CASE_NAME2(line) plume_no_wide_types_##line
+#define PLUME_WIDE_TEST_CASE_NAME(line) PLUME_WIDE_TEST_CASE_NAME2(line)
+#define PLUME_WIDE_TEST_CASE(name, tags, list)                                                   \
+  template <class TestType>                                                                        \
+  [[maybe_unused]] static void PLUME_WIDE_TEST_CASE_NAME(__LINE__)()
+#endif

@@ -137,7 +137,7 @@ void check_2d_lanes(char const* name, F f) {
 }
 } // namespace
 
-TEMPLATE_LIST_TEST_CASE("every 2D method is lane-exact", "[math][2d][lanes]",
+PLUME_WIDE_TEST_CASE("every 2D method is lane-exact", "[math][2d][lanes]",
                         test::wide_real_types) {
   using T = TestType;
 #define L2D(expr)                                                                                  \

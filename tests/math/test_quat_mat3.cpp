@@ -376,7 +376,7 @@ void check_quat_lanes(char const* name, F f) {
 }
 } // namespace
 
-TEMPLATE_LIST_TEST_CASE("every quat and mat3 method is lane-exact", "[math][lanes]",
+PLUME_WIDE_TEST_CASE("every quat and mat3 method is lane-exact", "[math][lanes]",
                         test::wide_real_types) {
   using T = TestType;
 #define QL(expr)                                                                                   \

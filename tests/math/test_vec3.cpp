@@ -163,7 +163,7 @@ void check_vec3_lanes(char const* name, F f) {
 }
 } // namespace
 
-TEMPLATE_LIST_TEST_CASE("every vec3 method is lane-exact", "[math][vec3][lanes]",
+PLUME_WIDE_TEST_CASE("every vec3 method is lane-exact", "[math][vec3][lanes]",
                         test::wide_real_types) {
   using T = TestType;
 #define V3(expr)                                                                                   \

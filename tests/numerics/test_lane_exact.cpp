@@ -6,7 +6,7 @@
 using namespace plume;
 
 
-TEMPLATE_LIST_TEST_CASE("every numerics function is lane-exact", "[numerics][lanes]",
+PLUME_WIDE_TEST_CASE("every numerics function is lane-exact", "[numerics][lanes]",
                         test::wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;

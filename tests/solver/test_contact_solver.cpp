@@ -1,4 +1,4 @@
-// The contact solver's pieces: softness coefficients (the notes' worked example), the graph
+// The contact solver's pieces: softness coefficients (softness.hpp's worked example), the graph
 // colouring's invariants, and the constraint kernels - lane-exact against T = float, and
 // against closed forms for one contact.
 #include "../common/harness.hpp"
@@ -54,7 +54,7 @@ bool same_vec(Vec3 const& a, Vec3 const& b) {
 
 } // namespace
 
-TEST_CASE("softness: the notes' worked example and the rigid and off limits", "[solver]") {
+TEST_CASE("softness: the header's worked example and the rigid and off limits", "[solver]") {
   Softness const s = Softness::make(30.0f, 10.0f, 1.0f / 240.0f);
   CHECK(s.bias_rate == Approx(9.07).epsilon(1e-3));
   CHECK(s.mass_scale == Approx(0.942).epsilon(1e-3));

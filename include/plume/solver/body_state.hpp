@@ -74,9 +74,9 @@ PLUME_INLINE void scatter_velocities(BodyState* states, std::int32_t const* writ
   float* rows[W];
   for (std::size_t i = 0; i < W; ++i)
     rows[i] = write[i] >= 0 ? &states[write[i]].linear_velocity.x : nullptr;
-  T const z = zero<T>();
-  T const c[8] = {b.linear_velocity.x,  b.linear_velocity.y,  b.linear_velocity.z,  z,
-                  b.angular_velocity.x, b.angular_velocity.y, b.angular_velocity.z, z};
+  T const pad = zero<T>();
+  T const c[8] = {b.linear_velocity.x,  b.linear_velocity.y,  b.linear_velocity.z,  pad,
+                  b.angular_velocity.x, b.angular_velocity.y, b.angular_velocity.z, pad};
   store_transposed<T, 8>(c, rows);
 }
 
