@@ -1,9 +1,9 @@
-// plume/plume.hpp - everything plume has, floor by floor (docs/architecture.md).
+// plume/plume.hpp - everything plume has: every floor's umbrella header (docs/architecture.md).
 #pragma once
 
-#include <plume/numerics.hpp>
-#include <plume/math.hpp>
-#include <plume/collision.hpp>
 #include <plume/character.hpp>
+#include <plume/collision.hpp>
+#include <plume/math.hpp>
+#include <plume/numerics.hpp>
 #include <plume/solver.hpp>
 #include <plume/world.hpp>

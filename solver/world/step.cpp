@@ -60,9 +60,12 @@ void World::collide_pairs() {
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
     Body const& a = bodies_[body_pair_first(pairs_[k])];
     Body const& b = bodies_[body_pair_second(pairs_[k])];
-    found_[k] = {pairs_[k], collide(a.shape, a.pose, b.shape, b.pose, config_.manifold),
-                 std::sqrt(a.friction * b.friction), std::max(a.restitution, b.restitution),
-                 a.is_dynamic(), b.is_dynamic()};
+    found_[k] = {pairs_[k],
+                 collide(a.shape, a.pose, b.shape, b.pose, config_.manifold),
+                 std::sqrt(a.friction * b.friction),
+                 std::max(a.restitution, b.restitution),
+                 a.is_dynamic(),
+                 b.is_dynamic()};
   }
   cache_.update(found_, config_.contact_match_distance);
 }

@@ -15,8 +15,7 @@ using real_types = type_list_cat_t<type_list<float, double>, wide_real_types>;
 /// float and every f32 width of the build (kernels that are float-only, like the solver's).
 using f32_types = plume::f32_types;
 
-using int_types =
-    type_list_cat_t<type_list<std::int32_t, std::uint32_t>, i32_widths, u32_widths>;
+using int_types = type_list_cat_t<type_list<std::int32_t, std::uint32_t>, i32_widths, u32_widths>;
 
 } // namespace plume::test
 
@@ -29,7 +28,7 @@ using int_types =
 #else
 #define PLUME_WIDE_TEST_CASE_NAME2(line) plume_no_wide_types_##line
 #define PLUME_WIDE_TEST_CASE_NAME(line) PLUME_WIDE_TEST_CASE_NAME2(line)
-#define PLUME_WIDE_TEST_CASE(name, tags, list)                                                   \
+#define PLUME_WIDE_TEST_CASE(name, tags, list)                                                     \
   template <class TestType>                                                                        \
   [[maybe_unused]] static void PLUME_WIDE_TEST_CASE_NAME(__LINE__)()
 #endif

@@ -92,8 +92,9 @@ int main() {
   auto const run_world = [](bool scalar) {
     World world;
     world.create_body({.type = BodyType::static_body, .shape = HalfSpace{Vec3::Y}});
-    BodyId box = world.create_body({.pose = Iso3::from_translation({0, 2, 0}),
-                                    .shape = Cuboid{Vec3::splat(0.5f)}})
+    BodyId box = world
+                     .create_body({.pose = Iso3::from_translation({0, 2, 0}),
+                                   .shape = Cuboid{Vec3::splat(0.5f)}})
                      .id;
     CreateBodyResult made = world.create_body(
         {.pose = Iso3::from_translation({0, 20, 0}), .shape = Sphere{0.25f}, .restitution = 0.5f});
@@ -105,8 +106,7 @@ int main() {
   };
   auto const [top_y, hash] = run_world(false);
   bool const world_ok = std::abs(top_y - 0.5f) < 0.05f && run_world(true).second == hash;
-  std::printf("consumer: box at y = %g, world hash %016llx\n", top_y,
-              (unsigned long long)hash);
+  std::printf("consumer: box at y = %g, world hash %016llx\n", top_y, (unsigned long long)hash);
   return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok && solver_ok &&
           ray_ok && contact_ok && world_ok)
              ? 0

@@ -44,7 +44,8 @@ TEST_CASE("sort and sweep: the pairs a brute-force loop finds, sorted", "[world]
   }
 }
 
-TEST_CASE("body pair keys order by the smaller index, either argument order", "[world][broad-phase]") {
+TEST_CASE("body pair keys order by the smaller index, either argument order",
+          "[world][broad-phase]") {
   CHECK(body_pair_key(3, 7) == body_pair_key(7, 3));
   CHECK(body_pair_first(body_pair_key(7, 3)) == 3);
   CHECK(body_pair_second(body_pair_key(7, 3)) == 7);

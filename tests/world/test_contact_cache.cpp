@@ -29,11 +29,12 @@ TEST_CASE("carry_impulses: feature ids first, then the nearest point within reac
   before.tangent1 = 0.5f;
   before.tangent2 = -0.25f;
   before.twist = 0.125f;
-  Manifold const old = manifold_of({{10, {0, 0, 0}}, {11, {1, 0, 0}}, {12, {0, 0, 1}}, {13, {5, 0, 5}}});
+  Manifold const old =
+      manifold_of({{10, {0, 0, 0}}, {11, {1, 0, 0}}, {12, {0, 0, 1}}, {13, {5, 0, 5}}});
   // id 11 kept (moved far: still matched by id); id 99 new, 0.004 m from id 10's point
   // (matched by distance); id 13 kept; id 97 new, far from everything: starts at zero.
-  Manifold const now = manifold_of(
-      {{11, {3, 0, 3}}, {99, {0.004f, 0, 0}}, {13, {5, 0, 5}}, {97, {-3, 0, -3}}});
+  Manifold const now =
+      manifold_of({{11, {3, 0, 3}}, {99, {0.004f, 0, 0}}, {13, {5, 0, 5}}, {97, {-3, 0, -3}}});
   ContactImpulses const got = carry_impulses(now, old, before, 0.01f);
   CHECK(got.normal[0] == 2.0f);
   CHECK(got.normal[1] == 1.0f);
@@ -79,7 +80,7 @@ TEST_CASE("contact cache: contacts persist by pair, keep colours, end when apart
   std::vector<PairManifold> step2{found(1, 2, 2), found(2, 3, 1)};
   cache.update(step2, 0.01f);
   REQUIRE(cache.contacts().size() == 2);
-  CHECK(cache.contacts()[0].color == c12); // kept
+  CHECK(cache.contacts()[0].color == c12);               // kept
   CHECK(cache.contacts()[0].impulses.normal[1] == 7.0f); // warm start by feature id
   CHECK(cache.contacts()[1].impulses.normal[0] == 0.0f); // new
   std::vector<std::uint32_t> const frozen{2};

@@ -27,9 +27,7 @@ constexpr std::uint64_t body_pair_key(std::uint32_t a, std::uint32_t b) noexcept
 constexpr std::uint32_t body_pair_first(std::uint64_t key) noexcept {
   return std::uint32_t(key >> 32);
 }
-constexpr std::uint32_t body_pair_second(std::uint64_t key) noexcept {
-  return std::uint32_t(key);
-}
+constexpr std::uint32_t body_pair_second(std::uint64_t key) noexcept { return std::uint32_t(key); }
 
 class SortAndSweep {
 public:
@@ -44,8 +42,8 @@ public:
       Proxy const& p = proxies_[i];
       for (std::size_t j = i + 1; j < n && proxies_[j].box.min.x <= p.box.max.x; ++j) {
         Proxy const& q = proxies_[j];
-        if (p.box.max.y < q.box.min.y || q.box.max.y < p.box.min.y ||
-            p.box.max.z < q.box.min.z || q.box.max.z < p.box.min.z)
+        if (p.box.max.y < q.box.min.y || q.box.max.y < p.box.min.y || p.box.max.z < q.box.min.z ||
+            q.box.max.z < p.box.min.z)
           continue;
         if (!keep(p.index, q.index)) continue;
         pairs.push_back(body_pair_key(p.index, q.index));

@@ -224,9 +224,9 @@ private:
   std::vector<Body> bodies_;
   std::vector<BodyState> states_; ///< one per body, then the shared identity record
   SortAndSweep broad_phase_;
-  std::vector<Aabb3> boxes_;          ///< this step's grown AABBs, by body
-  std::vector<std::uint64_t> pairs_;  ///< this step's overlapping pairs (body_pair_key)
-  std::vector<PairManifold> found_;   ///< this step's manifolds, by pair
+  std::vector<Aabb3> boxes_;         ///< this step's grown AABBs, by body
+  std::vector<std::uint64_t> pairs_; ///< this step's overlapping pairs (body_pair_key)
+  std::vector<PairManifold> found_;  ///< this step's manifolds, by pair
   ContactCache cache_;
   std::vector<BodyId> frozen_;
   StepProfile profile_;
