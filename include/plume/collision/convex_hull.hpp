@@ -2,7 +2,7 @@
 // that the GJK family casts against, and GConvexHull<S>, built from a point cloud by
 // quickhull, with polygon faces, edges and face adjacency (what contact manifolds clip with).
 //
-//   auto built = ConvexHull::build(points);        // HullBuild<float>
+//   auto built = ConvexHull::build(points);        // HullBuild (GHullBuild<float>)
 //   if (!built) std::puts(to_string(built.error));  // too few / coincident / collinear / ...
 //   ConvexHull const& hull = built.hull;
 //
@@ -108,7 +108,7 @@ constexpr char const* to_string(HullError e) noexcept {
 
 /// A polygon face of a hull: vertex indices face_vertices[first .. first + count).
 template <ScalarReal S>
-struct HullFace {
+struct GHullFace {
   GVec3<S> normal; ///< unit, outward
   S offset;        ///< normal . p = offset for p on the face
   std::uint32_t first, count;
@@ -121,7 +121,7 @@ struct HullEdge {
 };
 
 template <ScalarReal S>
-struct HullBuild;
+struct GHullBuild;
 
 /// A convex hull: vertices, polygon faces with adjacency, edges. Scalar (float or double);
 /// polytope() gives the vertex view the GJK family uses; pack_polytopes<T> interleaves the
@@ -132,10 +132,10 @@ public:
   using Vec = GVec3<S>;
 
   /// Quickhull over points (see the conventions at the top); tolerance <= 0 picks the default.
-  static HullBuild<S> build(std::span<Vec const> points, S tolerance = S(0));
+  static GHullBuild<S> build(std::span<Vec const> points, S tolerance = S(0));
 
   std::span<Vec const> vertices() const noexcept { return vertices_; }
-  std::span<HullFace<S> const> faces() const noexcept { return faces_; }
+  std::span<GHullFace<S> const> faces() const noexcept { return faces_; }
   std::span<HullEdge const> edges() const noexcept { return edges_; }
   /// The vertex indices of face f, counter-clockwise seen from outside.
   std::span<std::uint32_t const> face_vertices(std::size_t f) const noexcept {
@@ -174,7 +174,7 @@ public:
 
 private:
   std::vector<Vec> vertices_;
-  std::vector<HullFace<S>> faces_;
+  std::vector<GHullFace<S>> faces_;
   std::vector<std::uint32_t> face_vertices_, face_neighbors_;
   std::vector<HullEdge> edges_;
   S tolerance_ = S(0);
@@ -183,7 +183,7 @@ private:
 };
 
 template <ScalarReal S>
-struct HullBuild {
+struct GHullBuild {
   GConvexHull<S> hull;
   HullError error = HullError::none;
   explicit operator bool() const noexcept { return error == HullError::none; }
@@ -191,6 +191,10 @@ struct HullBuild {
 
 using ConvexHull = GConvexHull<float>;
 using DConvexHull = GConvexHull<double>;
+using HullFace = GHullFace<float>;
+using DHullFace = GHullFace<double>;
+using HullBuild = GHullBuild<float>;
+using DHullBuild = GHullBuild<double>;
 using ConvexPolytope = GConvexPolytope<float>;
 
 /// The vertices of lanes_v<T> polytopes (one per lane) interleaved for a wide

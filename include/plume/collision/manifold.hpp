@@ -98,7 +98,7 @@ namespace detail {
 template <ScalarReal S>
 struct face_set {
   std::span<GVec3<S> const> verts;
-  std::span<HullFace<S> const> faces;
+  std::span<GHullFace<S> const> faces;
   std::span<std::uint32_t const> index;
   std::span<std::uint32_t const> face(std::size_t f) const noexcept {
     return index.subspan(faces[f].first, faces[f].count);
@@ -108,7 +108,7 @@ struct face_set {
 template <ScalarReal S>
 struct box_faces {
   std::array<GVec3<S>, 8> verts;
-  std::array<HullFace<S>, 6> faces;
+  std::array<GHullFace<S>, 6> faces;
   static constexpr std::array<std::uint32_t, 24> index{
       // -x, +x, -y, +y, -z, +z; vertex i has x = bit 0, y = bit 1, z = bit 2 (set = +);
       // counter-clockwise seen from outside.
@@ -132,7 +132,7 @@ struct box_faces {
 template <ScalarReal S>
 struct triangle_faces {
   std::array<GVec3<S>, 3> verts;
-  std::array<HullFace<S>, 2> faces;
+  std::array<GHullFace<S>, 2> faces;
   static constexpr std::array<std::uint32_t, 6> index{0, 1, 2, 0, 2, 1};
   explicit triangle_faces(GTriangle<S> const& t) noexcept : verts{t.a, t.b, t.c} {
     GVec3<S> const n = t.scaled_normal().normalize_or_zero();

@@ -78,7 +78,7 @@ struct detail_hull_builder {
   }
 
   template <ScalarReal S>
-  static HullBuild<S> run(std::span<GVec3<S> const> in, S tolerance);
+  static GHullBuild<S> run(std::span<GVec3<S> const> in, S tolerance);
 
   template <ScalarReal S>
   static void finish(detail_hull_builder& b, GConvexHull<S>& hull);
@@ -88,8 +88,8 @@ struct detail_hull_builder {
 };
 
 template <ScalarReal S>
-HullBuild<S> detail_hull_builder::run(std::span<GVec3<S> const> in, S tolerance) {
-  HullBuild<S> out;
+GHullBuild<S> detail_hull_builder::run(std::span<GVec3<S> const> in, S tolerance) {
+  GHullBuild<S> out;
   if (in.size() < 4) {
     out.error = HullError::too_few_points;
     return out;
@@ -343,8 +343,8 @@ void detail_hull_builder::finish(detail_hull_builder& b, GConvexHull<S>& hull) {
     }
     nn = nn * (1.0 / nn.length());
     c = c * (1.0 / double(l.size()));
-    HullFace<S> face{GVec3<S>{S(nn.x), S(nn.y), S(nn.z)}, S(nn.dot(c)),
-                     std::uint32_t(hull.face_vertices_.size()), std::uint32_t(l.size())};
+    GHullFace<S> face{GVec3<S>{S(nn.x), S(nn.y), S(nn.z)}, S(nn.dot(c)),
+                      std::uint32_t(hull.face_vertices_.size()), std::uint32_t(l.size())};
     hull.faces_.push_back(face);
     for (std::size_t i = 0; i < l.size(); ++i) {
       std::uint32_t const a = index[l[i]], q = index[l[(i + 1) % l.size()]];
@@ -354,7 +354,7 @@ void detail_hull_builder::finish(detail_hull_builder& b, GConvexHull<S>& hull) {
   }
   hull.face_neighbors_.resize(hull.face_vertices_.size());
   for (std::size_t f = 0; f < nf; ++f) {
-    HullFace<S> const& face = hull.faces_[f];
+    GHullFace<S> const& face = hull.faces_[f];
     for (std::uint32_t i = 0; i < face.count; ++i) {
       std::uint32_t const a = hull.face_vertices_[face.first + i];
       std::uint32_t const q = hull.face_vertices_[face.first + (i + 1) % face.count];
@@ -417,7 +417,7 @@ GMassProperties<S> detail_hull_builder::mass(GConvexHull<S> const& h, S density)
 }
 
 template <ScalarReal S>
-HullBuild<S> GConvexHull<S>::build(std::span<Vec const> points, S tolerance) {
+GHullBuild<S> GConvexHull<S>::build(std::span<Vec const> points, S tolerance) {
   return detail_hull_builder::run<S>(points, tolerance);
 }
 
