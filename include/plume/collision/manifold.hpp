@@ -241,10 +241,41 @@ void reduce_into(candidates<S> const& c, GVec3<S> const& normal, GManifold<S>& m
     if (i >= 0) m.points[std::size_t(m.count++)] = c.pts[std::size_t(i)];
 }
 
+/// The bit fields of a feature id (GContactPoint::id), high to low: whether the reference
+/// face is B's, the reference face, the incident face, and the key of the point on the
+/// incident side. The key is an incident vertex or a segment end (0, 1), or, with `clipped`
+/// set, a point made by clipping: incident edge and reference side for a face against a face
+/// (clip_key), the reference side alone for a segment against a face (segment_clip_key).
+namespace id_bits {
+inline constexpr int ref_is_b_shift = 63; ///< bit 63: the reference face is B's
+inline constexpr int ref_face_shift = 40; ///< bits 40..62: the reference face
+inline constexpr std::uint32_t ref_face_mask = 0x7fffff;
+inline constexpr int inc_face_shift = 20; ///< bits 20..39: the incident face
+inline constexpr std::uint32_t inc_face_mask = 0xfffff;
+inline constexpr std::uint32_t key_mask = 0xfffff; ///< bits 0..19: the point's key
+inline constexpr std::uint32_t no_face = 0xfffff;  ///< the incident face of a segment: none
+inline constexpr std::uint32_t clipped = 0x80000;  ///< key bit 19: made by clipping
+inline constexpr int edge_shift = 8;               ///< key bits 8..17: the incident edge
+inline constexpr std::uint32_t edge_mask = 0x3ff;
+inline constexpr std::uint32_t side_mask = 0xff; ///< key bits 0..7: the reference side
+} // namespace id_bits
+
 inline std::uint64_t feature_id(bool ref_is_b, std::uint32_t ref_face, std::uint32_t inc_face,
-                                std::uint32_t feature) noexcept {
-  return (std::uint64_t(ref_is_b) << 63) | (std::uint64_t(ref_face & 0x7fffff) << 40) |
-         (std::uint64_t(inc_face & 0xfffff) << 20) | std::uint64_t(feature & 0xfffff);
+                                std::uint32_t key) noexcept {
+  using namespace id_bits;
+  return (std::uint64_t(ref_is_b) << ref_is_b_shift) |
+         (std::uint64_t(ref_face & ref_face_mask) << ref_face_shift) |
+         (std::uint64_t(inc_face & inc_face_mask) << inc_face_shift) |
+         std::uint64_t(key & key_mask);
+}
+/// The key of the point where incident edge `edge` crosses reference side `side`.
+inline std::uint32_t clip_key(std::uint32_t edge, std::uint32_t side) noexcept {
+  using namespace id_bits;
+  return clipped | ((edge & edge_mask) << edge_shift) | (side & side_mask);
+}
+/// The key of a segment end clipped at reference side `side`.
+inline std::uint32_t segment_clip_key(std::uint32_t side) noexcept {
+  return id_bits::clipped | side;
 }
 
 /// The face of fs (at pose) whose world normal is most along dir; its alignment.
@@ -365,8 +396,7 @@ void clip_faces(face_set<S> const& ref, GIso3<S> const& ref_pose, std::uint32_t 
       if ((dp >= S(0)) != (dq >= S(0)) && no < 64) {
         S const t = dp / (dp - dq);
         // A new point where incident edge i crosses reference side k.
-        out[no++] = {p.p + (q.p - p.p) * t, 0x80000u | ((p.edge & 0x3ff) << 8) | (k & 0xff),
-                     p.edge};
+        out[no++] = {p.p + (q.p - p.p) * t, clip_key(p.edge, k), p.edge};
       }
     }
     std::swap(in, out);
@@ -395,7 +425,7 @@ void clip_segment(face_set<S> const& ref, GIso3<S> const& ref_pose, std::uint32_
   GVec3<S> const rn = ref_pose.transform_vector(ref.faces[rf].normal);
   GVec3<S> const r0 = ref_pose.transform_point(ref.verts[rv[0]]);
   S t0 = S(0), t1 = S(1);
-  std::uint32_t k0 = 0, k1 = 1; // end keys: 0/1 = the segment's own ends, 0x80000|k = clipped
+  std::uint32_t k0 = 0, k1 = 1; // end keys: 0/1 = the segment's own ends, else clipped
   GVec3<S> const d = p1 - p0;
   for (std::uint32_t k = 0; k < rv.size(); ++k) {
     GVec3<S> const a = ref_pose.transform_point(ref.verts[rv[k]]);
@@ -408,8 +438,8 @@ void clip_segment(face_set<S> const& ref, GIso3<S> const& ref_pose, std::uint32_
       continue;
     }
     S const t = -s0 / sd;
-    if (sd > S(0) && t > t0) t0 = t, k0 = 0x80000u | k;
-    if (sd < S(0) && t < t1) t1 = t, k1 = 0x80000u | k;
+    if (sd > S(0) && t > t0) t0 = t, k0 = segment_clip_key(k);
+    if (sd < S(0) && t < t1) t1 = t, k1 = segment_clip_key(k);
   }
   m.normal = ref_is_b ? -rn : rn;
   if (t1 < t0) return;
@@ -420,7 +450,7 @@ void clip_segment(face_set<S> const& ref, GIso3<S> const& ref_pose, std::uint32_
     if (s > S(cfg.prediction)) continue;
     GVec3<S> const on_seg = p - rn * r_seg;
     GVec3<S> const on_ref = p - rn * (p - r0).dot(rn);
-    std::uint64_t const id = feature_id(ref_is_b, rf, 0xfffff, e == 0 ? k0 : k1);
+    std::uint64_t const id = feature_id(ref_is_b, rf, id_bits::no_face, e == 0 ? k0 : k1);
     c.add(ref_is_b ? GContactPoint<S>{on_seg, on_ref, s, id}
                    : GContactPoint<S>{on_ref, on_seg, s, id});
   }
