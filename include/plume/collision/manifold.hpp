@@ -39,12 +39,14 @@
 #include <plume/math/mat3.hpp>
 #include <plume/math/vec3.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <span>
 #include <type_traits>
+#include <utility>
 
 namespace plume {
 
