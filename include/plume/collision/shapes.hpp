@@ -133,10 +133,10 @@ struct GCuboid {
   }
   /// The corner farther along dir (positive on ties and zeros).
   GVec3<T> support(GVec3<T> const& dir) const noexcept {
-    T const z = zero<T>();
-    return {plume::select(dir.x < z, -half_extents.x, half_extents.x),
-            plume::select(dir.y < z, -half_extents.y, half_extents.y),
-            plume::select(dir.z < z, -half_extents.z, half_extents.z)};
+    T const zero = plume::zero<T>();
+    return {plume::select(dir.x < zero, -half_extents.x, half_extents.x),
+            plume::select(dir.y < zero, -half_extents.y, half_extents.y),
+            plume::select(dir.z < zero, -half_extents.z, half_extents.z)};
   }
   GVec3<T> core_support(GVec3<T> const& dir) const noexcept { return support(dir); }
   T core_radius() const noexcept { return zero<T>(); }
