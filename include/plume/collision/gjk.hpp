@@ -335,7 +335,7 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
 
   GClosestPoints<T> out;
   T core = plume::sqrt(d2);
-  GVec3<T> n = -detail::unit_or_zero(v); // v = a - b points from B to A
+  GVec3<T> n = -v.normalize_or_zero(); // v = a - b points from B to A
   mask_t<T> apart = (!overlap) & (n.dot(n) > zero);
   out.overlap = overlap | ((!failed) & (!apart));
   out.normal = GVec3<T>::select(out.overlap, GVec3<T>{}, n);
@@ -375,10 +375,10 @@ shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const
       detail::gjk_cast(sa, sb, GVec3<T>{}, motion_a, splat<T>(S(cfg.max_toi)), radius,
                        pose_a.translation - pose_b.translation, bad_input, cfg.gjk);
   GShapeCastHit<T> out;
-  GVec3<T> n = -detail::unit_or_zero(c.n); // c.n points out of D = B - A: from B to A
+  GVec3<T> n = -c.n.normalize_or_zero(); // c.n points out of D = B - A: from B to A
   // Starting within reach: the normal is the current separation direction (none if the
   // cores overlap).
-  GVec3<T> sep = -detail::unit_or_zero(c.pa - c.pb);
+  GVec3<T> sep = -(c.pa - c.pb).normalize_or_zero();
   GVec3<T> normal =
       GVec3<T>::select(c.cores_overlap, GVec3<T>{}, GVec3<T>::select(c.started_inside, sep, n));
   mask_t<T> separating = c.started_inside & (!c.cores_overlap) & (normal.dot(motion_a) < zero);
@@ -421,8 +421,7 @@ PLUME_FLATTEN GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, 
   out.feature = -one<T>(); // polytope views have no faces: unknown
   out.hit = c.hit & (!c.failed);
   out.toi = plume::select(out.hit, c.toi, infinity<T>());
-  out.normal =
-      GVec3<T>::select(out.hit & (!c.started_inside), detail::unit_or_zero(c.n), GVec3<T>{});
+  out.normal = GVec3<T>::select(out.hit & (!c.started_inside), c.n.normalize_or_zero(), GVec3<T>{});
   if (!solid) {
     // From inside, the exit point: cast back from beyond the shape (its bounding sphere
     // around the start point) toward the origin.
@@ -444,8 +443,7 @@ PLUME_FLATTEN GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, 
       out.hit = (out.hit & (!inside)) | (found & in_range);
       out.toi =
           plume::select(inside, plume::select(found & in_range, exit, infinity<T>()), out.toi);
-      out.normal =
-          GVec3<T>::select(inside & found & in_range, detail::unit_or_zero(e.n), out.normal);
+      out.normal = GVec3<T>::select(inside & found & in_range, e.n.normalize_or_zero(), out.normal);
     }
   }
   return out;

@@ -85,14 +85,6 @@ struct ray_interval {
   T tin, tout;
 };
 
-/// v / |v|, or zero where that is not finite (normalize_or_zero, kept inline for wide
-/// kernels).
-template <Real T>
-PLUME_INLINE GVec3<T> unit_or_zero(GVec3<T> const& v) noexcept {
-  T const r = one<T>() / plume::sqrt(v.dot(v));
-  return GVec3<T>::select(plume::is_finite(r) & (r > zero<T>()), v * r, GVec3<T>{});
-}
-
 /// select(b < a, b, a) and select(b > a, b, a): a when the pair is unordered or equal.
 template <Real T>
 PLUME_INLINE T min_of(T a, T b) noexcept {
@@ -530,7 +522,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCylinder<T> const& cyl, GRay3<T> const& 
   auto const on_cap = plume::select(hit.leaving, cap_out, cap_in);
   V const p = ray.at(hit.toi);
   V const n = V::select(on_cap, V{zero, plume::select(hit.leaving, -up, up), zero},
-                        detail::unit_or_zero(V{p.x, zero, p.z}));
+                        V{p.x, zero, p.z}.normalize_or(V{}));
   T const part = plume::select(on_cap, plume::select(n.y > zero, one<T>(), two<T>()), zero);
   return detail::with_normal(hit, n, part);
 }
@@ -583,7 +575,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
   V const& d = ray.dir;
   // The normal and the ray's validity first, so that the vertices and the ray need not stay
   // live to the end for them (with AVX2's 16 registers they were spilled there).
-  V const n = detail::unit_or_zero(tri.scaled_normal());
+  V const n = tri.scaled_normal().normalize_or(V{});
   M const back = n.dot(d) > zero; // coming from behind: the back face
   V const facing = V::select(back, -n, n);
   M const valid = detail::ray_valid(ray);
