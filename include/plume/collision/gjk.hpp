@@ -27,9 +27,7 @@
 // penetrating with a zero normal: their depth and normal need EPA.
 //
 // Locals here and in detail/simplex.hpp are not const: simplex vertices, steps and the masks
-// built into them are copied whole, and g++ 12 keeps a const local that inlined code stores
-// into on the stack (see ray_cast.hpp). Dropping const made the AVX2 build 11-14% faster
-// at x8 (the scalar and AVX-512 builds: unchanged).
+// built into them are copied whole (docs/performance.md, "GJK").
 #pragma once
 
 #include <plume/collision/detail/simplex.hpp>

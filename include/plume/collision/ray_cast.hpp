@@ -23,13 +23,14 @@
 //    from inside a solid sphere or capsule a direction whose dot product with the origin
 //    (relative to the centre, or to the capsule's upper end) overflows counts as
 //    non-finite: a miss (|dir| above about 3e38 / size).
-//  - Robust forms (notes/collision.md): the sphere and cylinder discriminants are computed
-//    as a (r^2 - |f - (b/a) d|^2) = a r^2 - |f x d|^2, without the cancellation of b^2 - a c
-//    for small or far shapes, and the roots as c/q and q/a with q = -(b + sign(b) sqrt(disc))
-//    (one division for both); slab tests treat a zero direction component (+0 or -0), or
-//    one so small that 1/d overflows, as parallel and decide by whether the origin lies in
-//    the (closed) slab: the 0 * inf = NaN of an origin on a slab plane never rejects the ray,
-//    and an entry at t = +infinity is a miss.
+//  - Robust forms (Haines, Guenther and Akenine-Moeller, "Precision Improvements for
+//    Ray/Sphere Intersection", Ray Tracing Gems, 2019): the sphere and cylinder discriminants
+//    are computed as a (r^2 - |f - (b/a) d|^2) = a r^2 - |f x d|^2, without the cancellation
+//    of b^2 - a c for small or far shapes, and the roots as c/q and q/a with
+//    q = -(b + sign(b) sqrt(disc)) (one division for both); slab tests treat a zero direction
+//    component (+0 or -0), or one so small that 1/d overflows, as parallel and decide by whether
+//    the origin lies in the (closed) slab: the 0 * inf = NaN of an origin on a slab plane never
+//    rejects the ray, and an entry at t = +infinity is a miss.
 //  - A grazing ray that touches the surface in one point hits (tangency counts).
 //  - feature: the part of the shape hit, where the shape has parts, -1 on a miss or a solid
 //    hit from inside: cuboids and AABBs 0..5 = the -x, +x, -y, +y, -z, +z face; capsules
@@ -39,11 +40,9 @@
 //    triangles 0 front (the side (b - a) x (c - a) points to), 1 back; spheres and
 //    half-spaces 0. A number of type T, so that wide hits carry one per lane.
 //
-// Locals copied whole (into a returned struct, or a struct copied as one) are not const:
-// g++ 12's scalar replacement of aggregates gives up on a const local that inlined code
-// stores into, so the local, and the struct built from it, stay on the stack: stores and
-// reloads in every wide loop (one const mask cost the AVX2 triangle cast 45 instructions
-// and 23 stack references per batch).
+// Code shape, kept for the wide loops (docs/performance.md, "Ray casts"): locals copied whole
+// into a returned struct are not const; normals use normalize_or(GVec3<T>{}), which gives
+// normalize_or_zero()'s bits without loading its ZERO constant.
 #pragma once
 
 #include <plume/collision/shapes.hpp>
@@ -159,10 +158,8 @@ PLUME_INLINE entry_root<T> quadric_entry(GVec3<T> const& f, GVec3<T> const& d, T
     c = f.dot(f) - r2;
     disc = a * r2 - f.cross(d).length_squared();
   }
-  // The root first, the masks after: g++ emits x86 code close to source order, and masks
-  // computed first stay live across the square root and the division (with AVX2's 16
-  // registers the sphere's x8 loop had 6 stack references, now 3; the capsule's x8 loop is
-  // 4-6% faster). t, toward and ok are not const: see "Locals copied whole" above.
+  // The root first, the masks after, so that the masks are not live across the square root
+  // and the division (docs/performance.md, "Ray casts"); t, toward and ok are not const.
   T t = c / (plume::sqrt(disc) - b);
   mask_t<T> toward = (b < zero) & (a > zero);
   mask_t<T> ok = (toward & (c > zero)) & (disc >= zero);
@@ -297,7 +294,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray,
   T const r2 = s.radius * s.radius;
   detail::pre_hit<T> h;
   if (solid) {
-    auto e = detail::quadric_entry<false>(ray.origin, ray.dir, s.radius); // not const: header
+    auto e = detail::quadric_entry<false>(ray.origin, ray.dir, s.radius); // not const (see the top)
     auto const inside = ray.origin.length_squared() <= r2; // after the root (quadric_entry)
     // Validity without ray_valid's eleven operations: an entry implies a finite ray (see
     // quadric_entry), and an origin inside a finite radius is finite, so only the direction
@@ -344,7 +341,7 @@ PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T
   GVec3<T> const& d = ray.dir;
   T const zero = plume::zero<T>(), inf = infinity<T>();
   // Written axis by axis, each folded into running values as soon as it is known, so that a
-  // wide build keeps few registers live (with 16 ymm registers the whole-box form spilled).
+  // wide build keeps few registers live (docs/performance.md, "Ray casts").
   mask_t<T> const valid = ray_valid(ray);
   slab_axis<T> const sx = slab_crossings(o.x, d.x, lo.x, hi.x);
   // Entry: the slab entered last (first axis on ties); exit: the slab left first. NaN
@@ -418,9 +415,8 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCuboid<T> const& box, GRay3<T> const& ra
 /// of radius r, so its entry is the cylinder's entry when that point is within |y| <= h,
 /// and otherwise the entry into the end sphere on that side (the one facing the ray for a
 /// ray along the axis, which misses the side); the exit likewise. Both end spheres are
-/// intersected alongside the side rather than the one a crossing needs after it: that
-/// sphere would wait for the side's square root and division, and the chain of two such
-/// steps bounded the kernel (latency, at every width).
+/// intersected alongside the side, not just the one a crossing needs after it, which would
+/// wait for the side's square root and division (docs/performance.md, "Ray casts").
 template <Real T>
 PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& ray, T max_toi,
                                        bool solid = true) noexcept {
@@ -574,7 +570,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
   T const zero = plume::zero<T>();
   V const& d = ray.dir;
   // The normal and the ray's validity first, so that the vertices and the ray need not stay
-  // live to the end for them (with AVX2's 16 registers they were spilled there).
+  // live to the end for them.
   V const n = tri.scaled_normal().normalize_or(V{});
   M const back = n.dot(d) > zero; // coming from behind: the back face
   V const facing = V::select(back, -n, n);
@@ -641,7 +637,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
     inside =
         edge_ok(su, Bx, By, Cx, Cy) & edge_ok(sv, Cx, Cy, Ax, Ay) & edge_ok(sw, Ax, Ay, Bx, By);
   }
-  M hit = valid & inside & (det != zero) & (t >= zero) & (t <= max_toi); // not const: header
+  M hit = valid & inside & (det != zero) & (t >= zero) & (t <= max_toi); // not const (see the top)
   return {hit, plume::select(hit, t, infinity<T>()), detail::keep_where(hit, facing),
           plume::select(hit, plume::select(back, one<T>(), zero), -one<T>())};
 }
