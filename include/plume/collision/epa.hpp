@@ -63,6 +63,14 @@ struct EpaConfig {
   /// face (length units; plus 16 eps of the coordinates, as in GJK).
   float tolerance = 1e-5f;
   GjkConfig gjk{};
+
+  /// This config with every length-valued field (tolerance, gjk's) multiplied by length_unit.
+  EpaConfig scaled(float length_unit) const noexcept {
+    EpaConfig c = *this;
+    c.tolerance *= length_unit;
+    c.gjk = c.gjk.scaled(length_unit);
+    return c;
+  }
 };
 
 namespace detail {

@@ -59,6 +59,7 @@ struct GjkConfig {
   /// Closest points also stop when the distance is known to this relative accuracy.
   float relative_tolerance = 1e-6f;
 
+  /// This config with every length-valued field (tolerance) multiplied by length_unit.
   GjkConfig scaled(float length_unit) const noexcept {
     GjkConfig c = *this;
     c.tolerance *= length_unit;

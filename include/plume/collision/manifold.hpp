@@ -85,11 +85,12 @@ struct ManifoldConfig {
   float face_alignment = 0.9998f;
   EpaConfig epa{};
 
+  /// This config with every length-valued field (prediction, epa's) multiplied by
+  /// length_unit; face_alignment is a cosine and stays.
   ManifoldConfig scaled(float length_unit) const noexcept {
     ManifoldConfig c = *this;
     c.prediction *= length_unit;
-    c.epa.tolerance *= length_unit;
-    c.epa.gjk = c.epa.gjk.scaled(length_unit);
+    c.epa = c.epa.scaled(length_unit);
     return c;
   }
 };
