@@ -546,8 +546,8 @@ S sine_of(S c) noexcept {
 }
 
 /// The ends of a capsule's core segment, world: (0, -h, 0) and (0, h, 0) placed by pose.
-template <ScalarReal S, class Capsule>
-std::pair<GVec3<S>, GVec3<S>> core_segment(Capsule const& cap, GIso3<S> const& pose) noexcept {
+template <ScalarReal S, class Cap>
+std::pair<GVec3<S>, GVec3<S>> core_segment(Cap const& cap, GIso3<S> const& pose) noexcept {
   return {pose.transform_point({S(0), -cap.half_height, S(0)}),
           pose.transform_point({S(0), cap.half_height, S(0)})};
 }
@@ -616,8 +616,8 @@ void polytope_pair(A const& a, GIso3<S> const& pose_a, B const& b, GIso3<S> cons
 /// segment clipped to the polytope's face (the reference) when that face is within
 /// cfg.face_alignment of the normal and the segment parallel to it, two points; else, or when
 /// the clip keeps nothing, p's one point.
-template <bool CapIsA, ScalarReal S, class Capsule, class Poly>
-void capsule_on_polytope(Capsule const& cap, GIso3<S> const& cap_pose, Poly const& poly,
+template <bool CapIsA, ScalarReal S, class Cap, class Poly>
+void capsule_on_polytope(Cap const& cap, GIso3<S> const& cap_pose, Poly const& poly,
                          GIso3<S> const& poly_pose, GPenetrationResult<S> const& p,
                          ManifoldConfig const& cfg, GManifold<S>& m) {
   S const cos_face = S(cfg.face_alignment);

@@ -14,7 +14,8 @@
 // Each shape has volume(), local_aabb() and aabb(pose) (a half-space's box is infinite), and
 // support(dir): the point of the shape farthest along dir (dir need not be unit; a zero dir
 // gives a point of the shape). Degenerate sizes (radius 0, zero extents) are valid shapes:
-// a point, a segment, a flat box.
+// a point, a segment, a flat box. Sizes are not checked: a negative or non-finite one gives
+// unspecified results (the queries in gjk.hpp report a non-finite one as failed).
 //
 // Rounded form, used by the GJK family (collision/gjk.hpp): every bounded shape is a core
 // swept by a ball, shape = core (+) ball(core_radius()); core_support(dir) is the core's
