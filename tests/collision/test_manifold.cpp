@@ -1,7 +1,7 @@
 // Contact manifolds: boxes resting on boxes (4 points at the right depth), tilted boxes (edge
 // contacts), speculative points, capsules and spheres, half-spaces, triangles, edge-edge
 // contacts, the 4-point reduction, feature ids that persist, and consistent normals when the
-// shapes swap places.
+// shapes swap places; the configs' scaled().
 #include "collision_support.hpp"
 
 #include <plume/collision/manifold.hpp>
@@ -418,4 +418,37 @@ TEST_CASE("manifold: the boxes' separating-axis path agrees with GJK/EPA on the 
   }
   CHECK(compared > 200);
   CHECK(faces > 100);
+}
+
+TEST_CASE("configs: scaled() multiplies the length-valued fields only", "[collision][config]") {
+  GjkConfig gjk;
+  gjk.tolerance = 2e-5f;
+  gjk.relative_tolerance = 3e-6f;
+  gjk.max_iterations = 17;
+  GjkConfig const g = gjk.scaled(100);
+  CHECK(g.tolerance == 2e-5f * 100);
+  CHECK(g.relative_tolerance == 3e-6f); // a ratio
+  CHECK(g.max_iterations == 17);
+
+  EpaConfig epa;
+  epa.tolerance = 4e-5f;
+  epa.max_iterations = 9;
+  epa.gjk = gjk;
+  EpaConfig const e = epa.scaled(100);
+  CHECK(e.tolerance == 4e-5f * 100);
+  CHECK(e.max_iterations == 9);
+  CHECK(e.gjk.tolerance == g.tolerance);
+  CHECK(e.gjk.relative_tolerance == g.relative_tolerance);
+
+  ManifoldConfig manifold;
+  manifold.prediction = 0.03f;
+  manifold.face_alignment = 0.999f;
+  manifold.epa = epa;
+  ManifoldConfig const m = manifold.scaled(100);
+  CHECK(m.prediction == 0.03f * 100);
+  CHECK(m.face_alignment == 0.999f); // a cosine
+  CHECK(m.epa.tolerance == e.tolerance);
+  CHECK(m.epa.gjk.tolerance == g.tolerance);
+  // The original is unchanged (a const member function returning a copy).
+  CHECK(manifold.prediction == 0.03f);
 }

@@ -2,7 +2,7 @@
 // that the GJK family casts against, and GConvexHull<S>, built from a point cloud by
 // quickhull, with polygon faces, edges and face adjacency (what contact manifolds clip with).
 //
-//   auto built = ConvexHull::build(points);        // HullBuild<float>
+//   auto built = ConvexHull::build(points);        // HullBuild (GHullBuild<float>)
 //   if (!built) std::puts(to_string(built.error));  // too few / coincident / collinear / ...
 //   ConvexHull const& hull = built.hull;
 //
@@ -31,6 +31,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <utility>
 #include <vector>
 
 PLUME_MASK_CODE_BEGIN
@@ -108,7 +109,7 @@ constexpr char const* to_string(HullError e) noexcept {
 
 /// A polygon face of a hull: vertex indices face_vertices[first .. first + count).
 template <ScalarReal S>
-struct HullFace {
+struct GHullFace {
   GVec3<S> normal; ///< unit, outward
   S offset;        ///< normal . p = offset for p on the face
   std::uint32_t first, count;
@@ -121,7 +122,23 @@ struct HullEdge {
 };
 
 template <ScalarReal S>
-struct HullBuild;
+struct GHullBuild;
+
+namespace detail {
+/// What a GConvexHull holds: filled by the quickhull builder (detail/quickhull.hpp).
+template <ScalarReal S>
+struct hull_data {
+  std::vector<GVec3<S>> vertices;
+  std::vector<GHullFace<S>> faces;
+  std::vector<std::uint32_t> face_vertices, face_neighbors;
+  std::vector<HullEdge> edges;
+  S tolerance = S(0);
+};
+namespace hull_builder {
+template <ScalarReal S>
+GHullBuild<S> run(std::span<GVec3<S> const> in, S tolerance);
+} // namespace hull_builder
+} // namespace detail
 
 /// A convex hull: vertices, polygon faces with adjacency, edges. Scalar (float or double);
 /// polytope() gives the vertex view the GJK family uses; pack_polytopes<T> interleaves the
@@ -132,27 +149,31 @@ public:
   using Vec = GVec3<S>;
 
   /// Quickhull over points (see the conventions at the top); tolerance <= 0 picks the default.
-  static HullBuild<S> build(std::span<Vec const> points, S tolerance = S(0));
+  static GHullBuild<S> build(std::span<Vec const> points, S tolerance = S(0));
 
-  std::span<Vec const> vertices() const noexcept { return vertices_; }
-  std::span<HullFace<S> const> faces() const noexcept { return faces_; }
-  std::span<HullEdge const> edges() const noexcept { return edges_; }
+  /// The empty hull (no vertices, no faces).
+  GConvexHull() = default;
+
+  std::span<Vec const> vertices() const noexcept { return d_.vertices; }
+  std::span<GHullFace<S> const> faces() const noexcept { return d_.faces; }
+  std::span<HullEdge const> edges() const noexcept { return d_.edges; }
   /// The vertex indices of face f, counter-clockwise seen from outside.
   std::span<std::uint32_t const> face_vertices(std::size_t f) const noexcept {
-    return std::span<std::uint32_t const>(face_vertices_).subspan(faces_[f].first, faces_[f].count);
+    return std::span<std::uint32_t const>(d_.face_vertices)
+        .subspan(d_.faces[f].first, d_.faces[f].count);
   }
   /// neighbors(f)[i]: the face across the edge face_vertices(f)[i] -> [i + 1].
   std::span<std::uint32_t const> face_neighbors(std::size_t f) const noexcept {
-    return std::span<std::uint32_t const>(face_neighbors_)
-        .subspan(faces_[f].first, faces_[f].count);
+    return std::span<std::uint32_t const>(d_.face_neighbors)
+        .subspan(d_.faces[f].first, d_.faces[f].count);
   }
   /// Every face's vertex indices, one face after the other (face f from faces()[f].first).
-  std::span<std::uint32_t const> face_vertex_indices() const noexcept { return face_vertices_; }
+  std::span<std::uint32_t const> face_vertex_indices() const noexcept { return d_.face_vertices; }
   /// The tolerance the hull was built with.
-  S tolerance() const noexcept { return tolerance_; }
-  bool empty() const noexcept { return vertices_.empty(); }
+  S tolerance() const noexcept { return d_.tolerance; }
+  bool empty() const noexcept { return d_.vertices.empty(); }
 
-  GConvexPolytope<S> polytope() const noexcept { return {vertices_}; }
+  GConvexPolytope<S> polytope() const noexcept { return {d_.vertices}; }
   Vec support(Vec const& dir) const noexcept { return polytope().support(dir); }
   Vec core_support(Vec const& dir) const noexcept { return support(dir); }
   S core_radius() const noexcept { return S(0); }
@@ -162,8 +183,8 @@ public:
   /// The face whose outward normal is most aligned with dir (the first on ties).
   std::size_t support_face(Vec const& dir) const noexcept {
     std::size_t best = 0;
-    for (std::size_t f = 1; f < faces_.size(); ++f)
-      if (faces_[f].normal.dot(dir) > faces_[best].normal.dot(dir)) best = f;
+    for (std::size_t f = 1; f < d_.faces.size(); ++f)
+      if (d_.faces[f].normal.dot(dir) > d_.faces[best].normal.dot(dir)) best = f;
     return best;
   }
 
@@ -173,17 +194,16 @@ public:
   GMassProperties<S> mass_properties(S density) const noexcept;
 
 private:
-  std::vector<Vec> vertices_;
-  std::vector<HullFace<S>> faces_;
-  std::vector<std::uint32_t> face_vertices_, face_neighbors_;
-  std::vector<HullEdge> edges_;
-  S tolerance_ = S(0);
+  explicit GConvexHull(detail::hull_data<S>&& d) noexcept : d_(std::move(d)) {}
 
-  friend struct detail_hull_builder;
+  detail::hull_data<S> d_;
+
+  // Only the builder makes non-empty hulls (from the data it computed).
+  friend GHullBuild<S> detail::hull_builder::run<S>(std::span<Vec const>, S);
 };
 
 template <ScalarReal S>
-struct HullBuild {
+struct GHullBuild {
   GConvexHull<S> hull;
   HullError error = HullError::none;
   explicit operator bool() const noexcept { return error == HullError::none; }
@@ -191,6 +211,10 @@ struct HullBuild {
 
 using ConvexHull = GConvexHull<float>;
 using DConvexHull = GConvexHull<double>;
+using HullFace = GHullFace<float>;
+using DHullFace = GHullFace<double>;
+using HullBuild = GHullBuild<float>;
+using DHullBuild = GHullBuild<double>;
 using ConvexPolytope = GConvexPolytope<float>;
 
 /// The vertices of lanes_v<T> polytopes (one per lane) interleaved for a wide

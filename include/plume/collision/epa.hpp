@@ -28,10 +28,12 @@
 #include <plume/math/vec3.hpp>
 #include <plume/numerics.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 
 namespace plume {
 
@@ -61,10 +63,20 @@ struct EpaConfig {
   /// face (length units; plus 16 eps of the coordinates, as in GJK).
   float tolerance = 1e-5f;
   GjkConfig gjk{};
+
+  /// This config with every length-valued field (tolerance, gjk's) multiplied by length_unit.
+  EpaConfig scaled(float length_unit) const noexcept {
+    EpaConfig c = *this;
+    c.tolerance *= length_unit;
+    c.gjk = c.gjk.scaled(length_unit);
+    return c;
+  }
 };
 
 namespace detail {
 
+/// EPA's polytope: vertices of D, triangles with outward unit normals; dead faces stay in the
+/// list until it is compacted.
 template <ScalarReal S>
 struct epa_polytope {
   static constexpr int max_vertices = 64;
@@ -75,10 +87,13 @@ struct epa_polytope {
     S d;        ///< n . vertex: the signed distance of the origin's plane
     bool alive;
   };
+  /// The horizon of a new vertex: directed edges (a, b).
+  using horizon = std::array<std::array<int, 2>, 3 * max_faces>;
   std::array<simplex_vertex<S>, max_vertices> vert;
   std::array<face, max_faces> faces;
   int nv = 0, nf = 0;
 
+  /// Appends the face (a, b, c); false when the list is full or the face has no area.
   bool add_face(int a, int b, int c) {
     if (nf == max_faces) return false;
     GVec3<S> const& pa = vert[std::size_t(a)].p;
@@ -89,147 +104,31 @@ struct epa_polytope {
     faces[std::size_t(nf++)] = face{{a, b, c}, n, n.dot(pa), true};
     return true;
   }
-};
 
-} // namespace detail
-
-/// Signed distance / penetration between convex shapes a (at pose_a) and b (at pose_b).
-template <ScalarReal S, ConvexShape<S> A, ConvexShape<S> B>
-GPenetrationResult<S> penetration(A const& a, GIso3<S> const& pose_a, B const& b,
-                                  GIso3<S> const& pose_b, EpaConfig const& cfg = {}) noexcept {
-  GPenetrationResult<S> out{};
-  GClosestPoints<S> const g = closest_points(a, pose_a, b, pose_b, cfg.gjk);
-  if (g.failed) {
-    S const q = std::numeric_limits<S>::quiet_NaN();
-    return {q, GVec3<S>{}, GVec3<S>::splat(q), GVec3<S>::splat(q), PenetrationStatus::failed, 0};
-  }
-  if (!g.overlap) {
-    out.depth = -g.distance;
-    out.normal = g.normal;
-    out.point_a = g.point_a;
-    out.point_b = g.point_b;
-    out.status = g.distance < S(0) ? PenetrationStatus::penetrating : PenetrationStatus::separated;
-    out.iterations = 0;
-    return out;
-  }
-
-  S const ra = a.core_radius(), rb = b.core_radius();
-  detail::placed<A, S> const sa{a, pose_a};
-  detail::placed<B, S> const sb{b, pose_b};
-  // Vertices of D = A - B (p = a - b here: the origin is inside D; normals point out of D,
-  // and the nearest face's normal is the direction from A toward B).
-  auto const vertex = [&](GVec3<S> const& d) {
-    GVec3<S> const pa = sa.support(d), pb = sb.support(-d);
-    return detail::simplex_vertex<S>{pa - pb, pa, pb};
-  };
-  GVec3<S> const centre_dir = pose_b.translation - pose_a.translation;
-  auto const finish = [&](S core_depth, GVec3<S> n, GVec3<S> pa, GVec3<S> pb, PenetrationStatus st,
-                          int it) {
-    return GPenetrationResult<S>{core_depth + ra + rb, n, pa + n * ra, pb - n * rb, st, it};
-  };
-  auto const flat_fallback = [&](GVec3<S> const& n_flat, detail::simplex_vertex<S> const& at) {
-    GVec3<S> n = n_flat;
-    if (n.dot(centre_dir) < S(0)) n = -n;
-    return finish(S(0), n, at.a, at.b, PenetrationStatus::penetrating, 0);
-  };
-
-  // Initial tetrahedron: extreme points along +-X, then the farthest from their line, then
-  // the farthest from their plane (both sides tried).
-  detail::epa_polytope<S> poly;
-  std::array<GVec3<S>, 6> const axes{GVec3<S>::X,  -GVec3<S>::X, GVec3<S>::Y,
-                                     -GVec3<S>::Y, GVec3<S>::Z,  -GVec3<S>::Z};
-  std::array<detail::simplex_vertex<S>, 6> ext;
-  S scale = S(0);
-  for (std::size_t k = 0; k < 6; ++k) {
-    ext[k] = vertex(axes[k]);
-    scale = std::max(scale, ext[k].p.length());
-  }
-  S const eps = std::numeric_limits<S>::epsilon();
-  S const tiny = S(64) * eps * scale;
-  // The two extremes farthest apart.
-  std::size_t i0 = 0, i1 = 1;
-  for (std::size_t k = 0; k < 6; k += 2)
-    if ((ext[k].p - ext[k + 1].p).length_squared() > (ext[i0].p - ext[i1].p).length_squared())
-      i0 = k, i1 = k + 1;
-  GVec3<S> const line = ext[i1].p - ext[i0].p;
-  if (line.length() <= tiny) // D is a point: the cores coincide
-    return flat_fallback(centre_dir.length_squared() > S(0) ? centre_dir.normalize() : GVec3<S>::Y,
-                         ext[i0]);
-  // Third point: the support along the directions perpendicular to the line, farthest out.
-  GVec3<S> const u = line.any_orthonormal_vector();
-  GVec3<S> const w = line.normalize().cross(u);
-  std::array<GVec3<S>, 4> const perp{u, -u, w, -w};
-  detail::simplex_vertex<S> p2{};
-  S best = S(-1);
-  for (auto const& d : perp) {
-    detail::simplex_vertex<S> const c = vertex(d);
-    S const dist = (c.p - ext[i0].p).cross(line).length() / line.length();
-    if (dist > best) best = dist, p2 = c;
-  }
-  if (best <= tiny) { // D is a segment
-    GVec3<S> const lu = line.normalize();
-    GVec3<S> n = centre_dir - lu * centre_dir.dot(lu);
-    n = n.length_squared() > S(0) ? n.normalize() : u;
-    return flat_fallback(n, ext[i0]);
-  }
-  GVec3<S> const pn = line.cross(p2.p - ext[i0].p).normalize();
-  detail::simplex_vertex<S> const up = vertex(pn), down = vertex(-pn);
-  S const hu = (up.p - ext[i0].p).dot(pn), hd = (ext[i0].p - down.p).dot(pn);
-  if (std::max(hu, hd) <= tiny) // D is flat
-    return flat_fallback(pn, ext[i0]);
-  detail::simplex_vertex<S> const p3 = hu >= hd ? up : down;
-  poly.vert[0] = ext[i0], poly.vert[1] = ext[i1], poly.vert[2] = p2, poly.vert[3] = p3;
-  poly.nv = 4;
-  // Orient the faces outward: p3 must be below face (0, 1, 2).
-  bool const flip = (p3.p - ext[i0].p).dot(pn) > S(0);
-  bool ok = flip ? poly.add_face(0, 2, 1) && poly.add_face(0, 1, 3) && poly.add_face(1, 2, 3) &&
-                       poly.add_face(2, 0, 3)
-                 : poly.add_face(0, 1, 2) && poly.add_face(0, 3, 1) && poly.add_face(1, 3, 2) &&
-                       poly.add_face(2, 3, 0);
-  if (!ok) return flat_fallback(pn, ext[i0]);
-
-  S const tol = S(cfg.tolerance);
-  // The live face nearest to the origin (smallest signed distance: a negative one means the
-  // origin is still outside it, and expanding it grows the polytope over the origin); -1 if
-  // none. Its distance is a lower bound of the depth wherever the polytope holds the origin
-  // (the polytope lies in D), which is why a capped result reports the nearest face.
-  auto const nearest_face = [&poly] {
+  /// The live face nearest to the origin (smallest signed distance: a negative one means the
+  /// origin is still outside it, and expanding it grows the polytope over the origin); -1 if
+  /// none. Its distance is a lower bound of the depth wherever the polytope holds the origin
+  /// (the polytope lies in D), which is why a capped result reports the nearest face.
+  int nearest_face() const noexcept {
     int near = -1;
-    for (int f = 0; f < poly.nf; ++f)
-      if (poly.faces[std::size_t(f)].alive &&
-          (near < 0 || poly.faces[std::size_t(f)].d < poly.faces[std::size_t(near)].d))
+    for (int f = 0; f < nf; ++f)
+      if (faces[std::size_t(f)].alive &&
+          (near < 0 || faces[std::size_t(f)].d < faces[std::size_t(near)].d))
         near = f;
     return near;
-  };
-  int best_face = nearest_face(); // the tetrahedron's faces are all alive: >= 0
-  typename detail::epa_polytope<S>::face chosen = poly.faces[std::size_t(best_face)];
-  PenetrationStatus status = PenetrationStatus::approximate;
-  int it = 0;
-  for (; it < cfg.max_iterations; ++it) {
-    best_face = nearest_face();
-    if (best_face < 0) break;
-    chosen = poly.faces[std::size_t(best_face)]; // kept: expanding kills it
-    auto const& bf = chosen;
-    detail::simplex_vertex<S> const nv = vertex(bf.n);
-    S const gain = nv.p.dot(bf.n) - bf.d;
-    S const floor = S(16) * eps * (nv.p.length() + scale);
-    if (gain <= std::max(tol, floor) && bf.d >= -std::max(tol, floor)) {
-      status = PenetrationStatus::penetrating;
-      break;
-    }
-    if (poly.nv == poly.max_vertices) break;
-    // Remove the faces that see the new point; the edges they do not share form the horizon.
-    int const vi = poly.nv;
-    poly.vert[std::size_t(poly.nv++)] = nv;
-    std::array<std::array<int, 2>, 3 * detail::epa_polytope<S>::max_faces> edges;
+  }
+
+  /// Kills the live faces that see p; their edges that are not shared by two of them (an
+  /// edge seen twice, once per direction, is inside the removed region) form the horizon,
+  /// into edges; returns its length.
+  int carve(GVec3<S> const& p, horizon& edges) noexcept {
     int ne = 0;
-    for (int f = 0; f < poly.nf; ++f) {
-      auto& fc = poly.faces[std::size_t(f)];
-      if (!fc.alive || fc.n.dot(nv.p - poly.vert[std::size_t(fc.v[0])].p) <= S(0)) continue;
+    for (int f = 0; f < nf; ++f) {
+      auto& fc = faces[std::size_t(f)];
+      if (!fc.alive || fc.n.dot(p - vert[std::size_t(fc.v[0])].p) <= S(0)) continue;
       fc.alive = false;
       for (int e = 0; e < 3; ++e) {
         int const ea = fc.v[std::size_t(e)], eb = fc.v[std::size_t((e + 1) % 3)];
-        // An edge seen twice (once per direction) is inside the removed region.
         bool shared = false;
         for (int k = 0; k < ne; ++k)
           if (edges[std::size_t(k)][0] == eb && edges[std::size_t(k)][1] == ea) {
@@ -240,22 +139,198 @@ GPenetrationResult<S> penetration(A const& a, GIso3<S> const& pose_a, B const& b
         if (!shared) edges[std::size_t(ne++)] = {ea, eb};
       }
     }
+    return ne;
+  }
+
+  /// Drops the dead faces from the list.
+  void compact() noexcept {
+    int live = 0;
+    for (int f = 0; f < nf; ++f)
+      if (faces[std::size_t(f)].alive) faces[std::size_t(live++)] = faces[std::size_t(f)];
+    nf = live;
+  }
+
+  /// Adds vertex w: the faces that see it are replaced by a fan from the horizon to it. False
+  /// when the vertices are full, or the faces (a new face full or a sliver: the polytope is
+  /// then left as it is, to report the best face found).
+  bool grow(simplex_vertex<S> const& w) noexcept {
+    if (nv == max_vertices) return false;
+    int const vi = nv;
+    vert[std::size_t(nv++)] = w;
+    horizon edges;
+    int const ne = carve(w.p, edges);
     bool grown = ne > 0;
     for (int k = 0; k < ne && grown; ++k)
-      grown = poly.add_face(edges[std::size_t(k)][0], edges[std::size_t(k)][1], vi);
-    if (!grown) break; // full, or a sliver face: keep the best face found
+      grown = add_face(edges[std::size_t(k)][0], edges[std::size_t(k)][1], vi);
+    if (!grown) return false;
     // Compact the face list now and then so it does not fill with dead faces.
-    if (poly.nf > poly.max_faces - 3 * 16) {
-      int live = 0;
-      for (int f = 0; f < poly.nf; ++f)
-        if (poly.faces[std::size_t(f)].alive)
-          poly.faces[std::size_t(live++)] = poly.faces[std::size_t(f)];
-      poly.nf = live;
-    }
+    if (nf > max_faces - 3 * 16) compact();
+    return true;
   }
-  if (best_face < 0) return flat_fallback(pn, ext[i0]);
-  // The origin's projection on the nearest face, in barycentric weights of its vertices.
-  auto const& bf = chosen;
+};
+
+/// D = A - B for two placed cores (p = a - b): the origin is inside D when the cores
+/// overlap, normals point out of D, and the nearest face's normal is the direction from A
+/// toward B.
+template <class A, class B, ScalarReal S>
+struct core_difference {
+  placed<A, S> sa;
+  placed<B, S> sb;
+  /// The vertex of D along d, with the support points of A and B that make it.
+  simplex_vertex<S> vertex(GVec3<S> const& d) const noexcept {
+    GVec3<S> const pa = sa.support(d), pb = sb.support(-d);
+    return simplex_vertex<S>{pa - pb, pa, pb};
+  }
+};
+
+/// The start of EPA: the initial tetrahedron (built into the polytope), or the normal to
+/// report when D is flat.
+template <ScalarReal S>
+struct epa_seed {
+  bool built;
+  /// D flat: the normal of the flat set, unoriented; built: the normal of the plane of the
+  /// first three vertices (the fallback if the expansion loses every face).
+  GVec3<S> flat_normal;
+  simplex_vertex<S> anchor; ///< the first vertex: where a flat result puts its points
+  S scale;                  ///< the largest |vertex| along the axes: the size of D
+};
+
+/// The vertices of D along +-X, +-Y, +-Z; the largest of their distances from the origin into
+/// scale.
+template <ScalarReal S, class Diff>
+std::array<simplex_vertex<S>, 6> axis_extremes(Diff const& diff, S& scale) noexcept {
+  std::array<GVec3<S>, 6> const axes{GVec3<S>::X,  -GVec3<S>::X, GVec3<S>::Y,
+                                     -GVec3<S>::Y, GVec3<S>::Z,  -GVec3<S>::Z};
+  std::array<simplex_vertex<S>, 6> ext;
+  scale = S(0);
+  for (std::size_t k = 0; k < 6; ++k) {
+    ext[k] = diff.vertex(axes[k]);
+    scale = std::max(scale, ext[k].p.length());
+  }
+  return ext;
+}
+
+/// Of the three pairs of opposite extremes, the two farthest apart (the first on ties).
+template <ScalarReal S>
+std::pair<std::size_t, std::size_t>
+farthest_pair(std::array<simplex_vertex<S>, 6> const& ext) noexcept {
+  std::size_t i0 = 0, i1 = 1;
+  for (std::size_t k = 0; k < 6; k += 2)
+    if ((ext[k].p - ext[k + 1].p).length_squared() > (ext[i0].p - ext[i1].p).length_squared())
+      i0 = k, i1 = k + 1;
+  return {i0, i1};
+}
+
+/// The third vertex: of the supports along four directions perpendicular to the line (from
+/// p0 along `line`), the farthest from it, and that distance.
+template <ScalarReal S, class Diff>
+std::pair<simplex_vertex<S>, S> farthest_from_line(Diff const& diff, GVec3<S> const& p0,
+                                                   GVec3<S> const& line,
+                                                   GVec3<S> const& u) noexcept {
+  GVec3<S> const w = line.normalize().cross(u);
+  std::array<GVec3<S>, 4> const perp{u, -u, w, -w};
+  simplex_vertex<S> p2{};
+  S best = S(-1);
+  for (auto const& d : perp) {
+    simplex_vertex<S> const c = diff.vertex(d);
+    S const dist = (c.p - p0).cross(line).length() / line.length();
+    if (dist > best) best = dist, p2 = c;
+  }
+  return {p2, best};
+}
+
+/// Sets the polytope to the tetrahedron of its four vertices, faces oriented outward (vertex
+/// 3 below face (0, 1, 2), whose normal is +-pn); false if a face has no area.
+template <ScalarReal S>
+bool close_tetrahedron(epa_polytope<S>& poly, GVec3<S> const& pn) {
+  poly.nv = 4;
+  bool const flip = (poly.vert[3].p - poly.vert[0].p).dot(pn) > S(0);
+  return flip ? poly.add_face(0, 2, 1) && poly.add_face(0, 1, 3) && poly.add_face(1, 2, 3) &&
+                    poly.add_face(2, 0, 3)
+              : poly.add_face(0, 1, 2) && poly.add_face(0, 3, 1) && poly.add_face(1, 3, 2) &&
+                    poly.add_face(2, 3, 0);
+}
+
+/// The initial tetrahedron: the extreme points along +-X farthest apart (or Y, Z), then the
+/// farthest from their line, then the farthest from their plane (both sides tried). It need
+/// not contain the origin. When D is a point, a segment or flat (within 64 eps of its size),
+/// there is no tetrahedron and the seed holds the normal to report: the direction between the
+/// shapes' centres (else +Y) for a point, its part perpendicular to the segment (else a
+/// perpendicular) for a segment, the plane's normal for a flat D.
+template <ScalarReal S, class Diff>
+epa_seed<S> initial_tetrahedron(Diff const& diff, GVec3<S> const& centre_dir,
+                                epa_polytope<S>& poly) noexcept {
+  epa_seed<S> seed{};
+  std::array<simplex_vertex<S>, 6> const ext = axis_extremes(diff, seed.scale);
+  S const tiny = S(64) * std::numeric_limits<S>::epsilon() * seed.scale;
+  auto const [i0, i1] = farthest_pair(ext);
+  seed.anchor = ext[i0];
+  GVec3<S> const line = ext[i1].p - ext[i0].p;
+  if (line.length() <= tiny) { // D is a point: the cores coincide
+    seed.flat_normal = centre_dir.length_squared() > S(0) ? centre_dir.normalize() : GVec3<S>::Y;
+    return seed;
+  }
+  GVec3<S> const u = line.any_orthonormal_vector();
+  auto const [p2, dist] = farthest_from_line(diff, ext[i0].p, line, u);
+  if (dist <= tiny) { // D is a segment
+    GVec3<S> const lu = line.normalize();
+    GVec3<S> n = centre_dir - lu * centre_dir.dot(lu);
+    seed.flat_normal = n.length_squared() > S(0) ? n.normalize() : u;
+    return seed;
+  }
+  GVec3<S> const pn = line.cross(p2.p - ext[i0].p).normalize();
+  seed.flat_normal = pn;
+  simplex_vertex<S> const up = diff.vertex(pn), down = diff.vertex(-pn);
+  S const hu = (up.p - ext[i0].p).dot(pn), hd = (ext[i0].p - down.p).dot(pn);
+  if (std::max(hu, hd) <= tiny) return seed; // D is flat
+  poly.vert[0] = ext[i0], poly.vert[1] = ext[i1], poly.vert[2] = p2;
+  poly.vert[3] = hu >= hd ? up : down;
+  seed.built = close_tetrahedron(poly, pn);
+  return seed;
+}
+
+/// How the expansion ended: the nearest face found last (its index, -1 when no face is left
+/// alive) and a copy of it (expanding kills it), the status and the iteration count.
+template <ScalarReal S>
+struct epa_outcome {
+  int best_face;
+  typename epa_polytope<S>::face chosen;
+  PenetrationStatus status;
+  int iterations;
+};
+
+/// Expands the polytope's nearest face until the support point along its normal is within
+/// the tolerance (or the rounding floor, 16 eps of the coordinates) of it: penetrating. The
+/// iteration cap, full vertices or a sliver face stop it first: approximate.
+template <ScalarReal S, class Diff>
+epa_outcome<S> expand(epa_polytope<S>& poly, Diff const& diff, S scale,
+                      EpaConfig const& cfg) noexcept {
+  S const eps = std::numeric_limits<S>::epsilon();
+  S const tol = S(cfg.tolerance);
+  epa_outcome<S> r{poly.nearest_face(), {}, PenetrationStatus::approximate, 0};
+  r.chosen = poly.faces[std::size_t(r.best_face)]; // the tetrahedron's faces are all alive
+  for (; r.iterations < cfg.max_iterations; ++r.iterations) {
+    r.best_face = poly.nearest_face();
+    if (r.best_face < 0) break;
+    r.chosen = poly.faces[std::size_t(r.best_face)];
+    auto const& bf = r.chosen;
+    simplex_vertex<S> const w = diff.vertex(bf.n);
+    S const gain = w.p.dot(bf.n) - bf.d;
+    S const floor = S(16) * eps * (w.p.length() + scale);
+    if (gain <= std::max(tol, floor) && bf.d >= -std::max(tol, floor)) {
+      r.status = PenetrationStatus::penetrating;
+      break;
+    }
+    if (!poly.grow(w)) break; // keep the best face found
+  }
+  return r;
+}
+
+/// The origin's projection on face bf, in barycentric weights of its vertices, applied to
+/// their support points: the deepest points of A and B.
+template <ScalarReal S>
+std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly,
+                                          typename epa_polytope<S>::face const& bf) noexcept {
   auto const& v0 = poly.vert[std::size_t(bf.v[0])];
   auto const& v1 = poly.vert[std::size_t(bf.v[1])];
   auto const& v2 = poly.vert[std::size_t(bf.v[2])];
@@ -265,9 +340,56 @@ GPenetrationResult<S> penetration(A const& a, GIso3<S> const& pose_a, B const& b
   S const l0 = (v1.p - q).cross(v2.p - q).dot(n) / nn;
   S const l1 = (v2.p - q).cross(v0.p - q).dot(n) / nn;
   S const l2 = S(1) - l0 - l1;
-  GVec3<S> const pa = (v0.a * l0 + v1.a * l1) + v2.a * l2;
-  GVec3<S> const pb = (v0.b * l0 + v1.b * l1) + v2.b * l2;
-  return finish(std::max(bf.d, S(0)), bf.n, pa, pb, status, it);
+  return {(v0.a * l0 + v1.a * l1) + v2.a * l2, (v0.b * l0 + v1.b * l1) + v2.b * l2};
+}
+
+/// A penetration from GJK's answer (the shapes apart, or only their rounding radii
+/// overlapping: exact).
+template <ScalarReal S>
+GPenetrationResult<S> from_closest_points(GClosestPoints<S> const& g) noexcept {
+  GPenetrationResult<S> out{};
+  out.depth = -g.distance;
+  out.normal = g.normal;
+  out.point_a = g.point_a;
+  out.point_b = g.point_b;
+  out.status = g.distance < S(0) ? PenetrationStatus::penetrating : PenetrationStatus::separated;
+  out.iterations = 0;
+  return out;
+}
+
+} // namespace detail
+
+/// Signed distance / penetration between convex shapes a (at pose_a) and b (at pose_b).
+template <ScalarReal S, ConvexShape<S> A, ConvexShape<S> B>
+GPenetrationResult<S> penetration(A const& a, GIso3<S> const& pose_a, B const& b,
+                                  GIso3<S> const& pose_b, EpaConfig const& cfg = {}) noexcept {
+  GClosestPoints<S> const g = closest_points(a, pose_a, b, pose_b, cfg.gjk);
+  if (g.failed) {
+    S const q = std::numeric_limits<S>::quiet_NaN();
+    return {q, GVec3<S>{}, GVec3<S>::splat(q), GVec3<S>::splat(q), PenetrationStatus::failed, 0};
+  }
+  if (!g.overlap) return detail::from_closest_points(g);
+
+  // The cores overlap: EPA on their difference, then the radii are added.
+  S const ra = a.core_radius(), rb = b.core_radius();
+  detail::core_difference<A, B, S> const diff{{a, pose_a}, {b, pose_b}};
+  GVec3<S> const centre_dir = pose_b.translation - pose_a.translation;
+  auto const finish = [&](S core_depth, GVec3<S> n, GVec3<S> pa, GVec3<S> pb, PenetrationStatus st,
+                          int it) {
+    return GPenetrationResult<S>{core_depth + ra + rb, n, pa + n * ra, pb - n * rb, st, it};
+  };
+  auto const flat_fallback = [&](detail::epa_seed<S> const& seed) {
+    GVec3<S> n = seed.flat_normal;
+    if (n.dot(centre_dir) < S(0)) n = -n;
+    return finish(S(0), n, seed.anchor.a, seed.anchor.b, PenetrationStatus::penetrating, 0);
+  };
+  detail::epa_polytope<S> poly;
+  detail::epa_seed<S> const seed = detail::initial_tetrahedron(diff, centre_dir, poly);
+  if (!seed.built) return flat_fallback(seed);
+  detail::epa_outcome<S> const r = detail::expand(poly, diff, seed.scale, cfg);
+  if (r.best_face < 0) return flat_fallback(seed);
+  auto const [pa, pb] = detail::face_points(poly, r.chosen);
+  return finish(std::max(r.chosen.d, S(0)), r.chosen.n, pa, pb, r.status, r.iterations);
 }
 
 using PenetrationResult = GPenetrationResult<float>;

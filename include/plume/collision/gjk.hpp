@@ -27,9 +27,7 @@
 // penetrating with a zero normal: their depth and normal need EPA.
 //
 // Locals here and in detail/simplex.hpp are not const: simplex vertices, steps and the masks
-// built into them are copied whole, and g++ 12 keeps a const local that inlined code stores
-// into on the stack (see ray_cast.hpp). Dropping const made the AVX2 build 11-14% faster
-// at x8 (the scalar and AVX-512 builds: unchanged).
+// built into them are copied whole (docs/performance.md, "GJK").
 #pragma once
 
 #include <plume/collision/detail/simplex.hpp>
@@ -61,6 +59,7 @@ struct GjkConfig {
   /// Closest points also stop when the distance is known to this relative accuracy.
   float relative_tolerance = 1e-6f;
 
+  /// This config with every length-valued field (tolerance) multiplied by length_unit.
   GjkConfig scaled(float length_unit) const noexcept {
     GjkConfig c = *this;
     c.tolerance *= length_unit;
@@ -162,29 +161,29 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
                                     GVec3<T> const& r, T max_toi, T radius, GVec3<T> v0,
                                     mask_t<T> bad_input, GjkConfig const& cfg) noexcept {
   using S = scalar_t<T>;
-  T z = zero<T>();
+  T zero = plume::zero<T>();
   T tol = splat<T>(S(cfg.tolerance));
   T floor_k = splat<T>(S(16)) * epsilon<T>();
 
   cast_state<T> out;
-  out.hit = mask_t<T>(false);
-  out.started_inside = mask_t<T>(false);
-  out.cores_overlap = mask_t<T>(false);
-  out.out_of_iterations = mask_t<T>(false);
+  out.hit = no_lanes<T>();
+  out.started_inside = no_lanes<T>();
+  out.cores_overlap = no_lanes<T>();
+  out.out_of_iterations = no_lanes<T>();
   out.failed = bad_input;
-  out.toi = z;
+  out.toi = zero;
   out.n = GVec3<T>{};
   out.pa = GVec3<T>{};
   out.pb = GVec3<T>{};
-  out.iterations = z;
+  out.iterations = zero;
 
   simplex<T> s;
   GVec3<T> x = origin;
-  GVec3<T> v = GVec3<T>::select(v0.dot(v0) > z, v0, -r);
-  v = GVec3<T>::select(v.dot(v) > z, v, GVec3<T>::X);
+  GVec3<T> v = GVec3<T>::select(v0.dot(v0) > zero, v0, -r);
+  v = GVec3<T>::select(v.dot(v) > zero, v, GVec3<T>::X);
   T d2_ref = infinity<T>(); // |v|^2 of the simplex at the current x (+inf: none yet)
   mask_t<T> active = !bad_input;
-  mask_t<T> advanced_ever = mask_t<T>(false);
+  mask_t<T> advanced_ever = no_lanes<T>();
 
   for (int it = 0; it < cfg.max_iterations; ++it) {
     if (plume::none(active)) break;
@@ -197,8 +196,8 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
     T vy = v.dot(y);
     T vr = v.dot(r);
     mask_t<T> outside = vy > radius * vl;
-    mask_t<T> receding = outside & (vr >= z);
-    T t_new = out.toi - (vy - radius * vl) / plume::select(outside & (vr < z), vr, -one<T>());
+    mask_t<T> receding = outside & (vr >= zero);
+    T t_new = out.toi - (vy - radius * vl) / plume::select(outside & (vr < zero), vr, -one<T>());
     mask_t<T> too_far = outside & (!receding) & (t_new > max_toi);
     mask_t<T> miss = active & (receding | too_far) & (!bad);
     mask_t<T> advance = active & outside & (!receding) & (!too_far) & (!bad);
@@ -268,7 +267,7 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
                                                GIso3<T> const& pose_b, GjkConfig const& cfg = {},
                                                GVec3<T> const& axis = {}) noexcept {
   using S = scalar_t<T>;
-  T z = zero<T>();
+  T zero = plume::zero<T>();
   detail::placed<A, T> const sa{a, pose_a};
   detail::placed<B, T> const sb{b, pose_b};
   T ra = a.core_radius(), rb = b.core_radius();
@@ -280,18 +279,19 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
       ((pose_a.is_finite() & pose_b.is_finite()) & (plume::is_finite(ra) & plume::is_finite(rb))) &
       detail::finite3(axis);
   mask_t<T> bad_input = !good_input;
-  GVec3<T> v = GVec3<T>::select(axis.dot(axis) > z, axis, pose_a.translation - pose_b.translation);
-  v = GVec3<T>::select(v.dot(v) > z, v, GVec3<T>::X);
+  GVec3<T> v =
+      GVec3<T>::select(axis.dot(axis) > zero, axis, pose_a.translation - pose_b.translation);
+  v = GVec3<T>::select(v.dot(v) > zero, v, GVec3<T>::X);
 
   detail::simplex<T> s;
   T d2 = infinity<T>();
-  T max_y2 = z;
+  T max_y2 = zero;
   GVec3<T> pa{}, pb{};
   mask_t<T> active = !bad_input;
   mask_t<T> failed = bad_input;
-  mask_t<T> overlap = mask_t<T>(false);
-  mask_t<T> done = mask_t<T>(false);
-  T iterations = z;
+  mask_t<T> overlap = no_lanes<T>();
+  mask_t<T> done = no_lanes<T>();
+  T iterations = zero;
 
   for (int it = 0; it < cfg.max_iterations; ++it) {
     if (plume::none(active)) break;
@@ -334,11 +334,11 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
 
   GClosestPoints<T> out;
   T core = plume::sqrt(d2);
-  GVec3<T> n = -detail::unit_or_zero(v); // v = a - b points from B to A
-  mask_t<T> apart = (!overlap) & (n.dot(n) > z);
+  GVec3<T> n = -v.normalize_or_zero(); // v = a - b points from B to A
+  mask_t<T> apart = (!overlap) & (n.dot(n) > zero);
   out.overlap = overlap | ((!failed) & (!apart));
   out.normal = GVec3<T>::select(out.overlap, GVec3<T>{}, n);
-  out.distance = plume::select(out.overlap, z, (core - ra) - rb);
+  out.distance = plume::select(out.overlap, zero, (core - ra) - rb);
   out.point_a = pa + out.normal * ra;
   out.point_b = pb - out.normal * rb;
   out.axis = v;
@@ -361,7 +361,7 @@ PLUME_FLATTEN GShapeCastHit<T>
 shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const& b,
            GIso3<T> const& pose_b, ShapeCastConfig const& cfg = {}) noexcept {
   using S = scalar_t<T>;
-  T z = zero<T>();
+  T zero = plume::zero<T>();
   detail::placed<A, T> const sa{a, pose_a};
   detail::placed<B, T> const sb{b, pose_b};
   T ra = a.core_radius(), rb = b.core_radius();
@@ -374,14 +374,14 @@ shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const
       detail::gjk_cast(sa, sb, GVec3<T>{}, motion_a, splat<T>(S(cfg.max_toi)), radius,
                        pose_a.translation - pose_b.translation, bad_input, cfg.gjk);
   GShapeCastHit<T> out;
-  GVec3<T> n = -detail::unit_or_zero(c.n); // c.n points out of D = B - A: from B to A
+  GVec3<T> n = -c.n.normalize_or_zero(); // c.n points out of D = B - A: from B to A
   // Starting within reach: the normal is the current separation direction (none if the
   // cores overlap).
-  GVec3<T> sep = -detail::unit_or_zero(c.pa - c.pb);
+  GVec3<T> sep = -(c.pa - c.pb).normalize_or_zero();
   GVec3<T> normal =
       GVec3<T>::select(c.cores_overlap, GVec3<T>{}, GVec3<T>::select(c.started_inside, sep, n));
-  mask_t<T> separating = c.started_inside & (!c.cores_overlap) & (normal.dot(motion_a) < z);
-  mask_t<T> ignore = cfg.stop_at_penetration ? mask_t<T>(false) : separating;
+  mask_t<T> separating = c.started_inside & (!c.cores_overlap) & (normal.dot(motion_a) < zero);
+  mask_t<T> ignore = cfg.stop_at_penetration ? no_lanes<T>() : separating;
   out.hit = c.hit & (!ignore);
   out.toi = plume::select(out.hit, c.toi, infinity<T>());
   out.normal = GVec3<T>::select(out.hit, normal, GVec3<T>{});
@@ -407,7 +407,7 @@ template <Real T, ConvexShape<T> Shape>
 PLUME_FLATTEN GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, GRay3<T> const& ray,
                                       T max_toi, bool solid = true,
                                       GjkConfig const& cfg = {}) noexcept {
-  T z = zero<T>();
+  T zero = plume::zero<T>();
   detail::origin_support<T> none{};
   detail::placed<Shape, T> const sb{shape, pose};
   T radius = shape.core_radius();
@@ -420,8 +420,7 @@ PLUME_FLATTEN GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, 
   out.feature = -one<T>(); // polytope views have no faces: unknown
   out.hit = c.hit & (!c.failed);
   out.toi = plume::select(out.hit, c.toi, infinity<T>());
-  out.normal =
-      GVec3<T>::select(out.hit & (!c.started_inside), detail::unit_or_zero(c.n), GVec3<T>{});
+  out.normal = GVec3<T>::select(out.hit & (!c.started_inside), c.n.normalize_or_zero(), GVec3<T>{});
   if (!solid) {
     // From inside, the exit point: cast back from beyond the shape (its bounding sphere
     // around the start point) toward the origin.
@@ -431,11 +430,11 @@ PLUME_FLATTEN GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, 
       T span = (box.max - box.min).length() + radius * two<T>() +
                (ray.origin - pose.translation).length() * two<T>();
       T dl = plume::sqrt(ray.dir.dot(ray.dir));
-      T back = span / plume::select(dl > z, dl, one<T>()); // in units of dir
+      T back = span / plume::select(dl > zero, dl, one<T>()); // in units of dir
       GVec3<T> far = ray.at(back);
       detail::cast_state<T> e =
           detail::gjk_cast(none, sb, far, -ray.dir, back, radius, far - pose.translation,
-                           bad_input | (!inside) | (dl == z), cfg);
+                           bad_input | (!inside) | (dl == zero), cfg);
       T exit = back - e.toi;
       // A capped back cast's toi is a lower bound, which makes its exit a late one: not found.
       mask_t<T> found = inside & e.hit & (!e.started_inside) & (!e.out_of_iterations);
@@ -443,8 +442,7 @@ PLUME_FLATTEN GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, 
       out.hit = (out.hit & (!inside)) | (found & in_range);
       out.toi =
           plume::select(inside, plume::select(found & in_range, exit, infinity<T>()), out.toi);
-      out.normal =
-          GVec3<T>::select(inside & found & in_range, detail::unit_or_zero(e.n), out.normal);
+      out.normal = GVec3<T>::select(inside & found & in_range, e.n.normalize_or_zero(), out.normal);
     }
   }
   return out;

@@ -39,12 +39,14 @@
 #include <plume/math/mat3.hpp>
 #include <plume/math/vec3.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <span>
 #include <type_traits>
+#include <utility>
 
 namespace plume {
 
@@ -83,11 +85,12 @@ struct ManifoldConfig {
   float face_alignment = 0.9998f;
   EpaConfig epa{};
 
+  /// This config with every length-valued field (prediction, epa's) multiplied by
+  /// length_unit; face_alignment is a cosine and stays.
   ManifoldConfig scaled(float length_unit) const noexcept {
     ManifoldConfig c = *this;
     c.prediction *= length_unit;
-    c.epa.tolerance *= length_unit;
-    c.epa.gjk = c.epa.gjk.scaled(length_unit);
+    c.epa = c.epa.scaled(length_unit);
     return c;
   }
 };
@@ -98,7 +101,7 @@ namespace detail {
 template <ScalarReal S>
 struct face_set {
   std::span<GVec3<S> const> verts;
-  std::span<HullFace<S> const> faces;
+  std::span<GHullFace<S> const> faces;
   std::span<std::uint32_t const> index;
   std::span<std::uint32_t const> face(std::size_t f) const noexcept {
     return index.subspan(faces[f].first, faces[f].count);
@@ -108,7 +111,7 @@ struct face_set {
 template <ScalarReal S>
 struct box_faces {
   std::array<GVec3<S>, 8> verts;
-  std::array<HullFace<S>, 6> faces;
+  std::array<GHullFace<S>, 6> faces;
   static constexpr std::array<std::uint32_t, 24> index{
       // -x, +x, -y, +y, -z, +z; vertex i has x = bit 0, y = bit 1, z = bit 2 (set = +);
       // counter-clockwise seen from outside.
@@ -132,7 +135,7 @@ struct box_faces {
 template <ScalarReal S>
 struct triangle_faces {
   std::array<GVec3<S>, 3> verts;
-  std::array<HullFace<S>, 2> faces;
+  std::array<GHullFace<S>, 2> faces;
   static constexpr std::array<std::uint32_t, 6> index{0, 1, 2, 0, 2, 1};
   explicit triangle_faces(GTriangle<S> const& t) noexcept : verts{t.a, t.b, t.c} {
     GVec3<S> const n = t.scaled_normal().normalize_or_zero();
@@ -241,10 +244,41 @@ void reduce_into(candidates<S> const& c, GVec3<S> const& normal, GManifold<S>& m
     if (i >= 0) m.points[std::size_t(m.count++)] = c.pts[std::size_t(i)];
 }
 
+/// The bit fields of a feature id (GContactPoint::id), high to low: whether the reference
+/// face is B's, the reference face, the incident face, and the key of the point on the
+/// incident side. The key is an incident vertex or a segment end (0, 1), or, with `clipped`
+/// set, a point made by clipping: incident edge and reference side for a face against a face
+/// (clip_key), the reference side alone for a segment against a face (segment_clip_key).
+namespace id_bits {
+inline constexpr int ref_is_b_shift = 63; ///< bit 63: the reference face is B's
+inline constexpr int ref_face_shift = 40; ///< bits 40..62: the reference face
+inline constexpr std::uint32_t ref_face_mask = 0x7fffff;
+inline constexpr int inc_face_shift = 20; ///< bits 20..39: the incident face
+inline constexpr std::uint32_t inc_face_mask = 0xfffff;
+inline constexpr std::uint32_t key_mask = 0xfffff; ///< bits 0..19: the point's key
+inline constexpr std::uint32_t no_face = 0xfffff;  ///< the incident face of a segment: none
+inline constexpr std::uint32_t clipped = 0x80000;  ///< key bit 19: made by clipping
+inline constexpr int edge_shift = 8;               ///< key bits 8..17: the incident edge
+inline constexpr std::uint32_t edge_mask = 0x3ff;
+inline constexpr std::uint32_t side_mask = 0xff; ///< key bits 0..7: the reference side
+} // namespace id_bits
+
 inline std::uint64_t feature_id(bool ref_is_b, std::uint32_t ref_face, std::uint32_t inc_face,
-                                std::uint32_t feature) noexcept {
-  return (std::uint64_t(ref_is_b) << 63) | (std::uint64_t(ref_face & 0x7fffff) << 40) |
-         (std::uint64_t(inc_face & 0xfffff) << 20) | std::uint64_t(feature & 0xfffff);
+                                std::uint32_t key) noexcept {
+  using namespace id_bits;
+  return (std::uint64_t(ref_is_b) << ref_is_b_shift) |
+         (std::uint64_t(ref_face & ref_face_mask) << ref_face_shift) |
+         (std::uint64_t(inc_face & inc_face_mask) << inc_face_shift) |
+         std::uint64_t(key & key_mask);
+}
+/// The key of the point where incident edge `edge` crosses reference side `side`.
+inline std::uint32_t clip_key(std::uint32_t edge, std::uint32_t side) noexcept {
+  using namespace id_bits;
+  return clipped | ((edge & edge_mask) << edge_shift) | (side & side_mask);
+}
+/// The key of a segment end clipped at reference side `side`.
+inline std::uint32_t segment_clip_key(std::uint32_t side) noexcept {
+  return id_bits::clipped | side;
 }
 
 /// The face of fs (at pose) whose world normal is most along dir; its alignment.
@@ -328,60 +362,88 @@ void single_point(GPenetrationResult<S> const& p, GManifold<S>& m, ManifoldConfi
   }
 }
 
-/// Clips the incident polygon (world points, with per-point feature keys) against the side
-/// planes of the reference face; keeps the points within the prediction distance.
+/// The contact point with on_ref on the reference shape and on_other on the other one, in
+/// A, B order.
+template <ScalarReal S>
+GContactPoint<S> ordered_point(bool ref_is_b, GVec3<S> const& on_ref, GVec3<S> const& on_other,
+                               S separation, std::uint64_t id) noexcept {
+  return ref_is_b ? GContactPoint<S>{on_other, on_ref, separation, id}
+                  : GContactPoint<S>{on_ref, on_other, separation, id};
+}
+
+/// Adds to c the contact of p (world), a point of the other shape's core of radius r_other,
+/// with the reference plane (world unit normal rn through r0, the reference shape's radius
+/// r_ref) when its separation is within the prediction distance.
+template <ScalarReal S>
+void add_plane_contact(candidates<S>& c, GVec3<S> const& p, GVec3<S> const& rn, GVec3<S> const& r0,
+                       S r_ref, S r_other, bool ref_is_b, std::uint64_t id,
+                       ManifoldConfig const& cfg) noexcept {
+  S const height = (p - r0).dot(rn);
+  S const s = height - r_ref - r_other;
+  if (s > S(cfg.prediction)) return;
+  GVec3<S> const on_other = p - rn * r_other;
+  GVec3<S> const on_ref = p - rn * (height - r_ref);
+  c.add(ordered_point(ref_is_b, on_ref, on_other, s, id));
+}
+
+/// A vertex of the incident polygon while it is clipped: world position, feature key, and
+/// the original incident edge it starts (edge i runs from incident vertex i to i + 1), so
+/// that a clipped point's key (incident edge, reference side) names the same features every
+/// frame.
+template <ScalarReal S>
+struct clip_vertex {
+  GVec3<S> p;
+  std::uint32_t key;
+  std::uint32_t edge;
+};
+
+/// One Sutherland-Hodgman pass over the polygon in[0, n): the vertices on the inner side of
+/// reference side k (the plane through a with inward normal `side`) and a new vertex where
+/// an edge crosses it, at most 64, into out; returns their count.
+template <ScalarReal S>
+int clip_side(clip_vertex<S> const* in, int n, GVec3<S> const& a, GVec3<S> const& side,
+              std::uint32_t k, clip_vertex<S>* out) noexcept {
+  int no = 0;
+  for (int i = 0; i < n; ++i) {
+    clip_vertex<S> const& p = in[i];
+    clip_vertex<S> const& q = in[(i + 1) % n];
+    S const dp = (p.p - a).dot(side), dq = (q.p - a).dot(side);
+    if (dp >= S(0) && no < 64) out[no++] = p;
+    if ((dp >= S(0)) != (dq >= S(0)) && no < 64) {
+      S const t = dp / (dp - dq);
+      // A new point where incident edge p.edge crosses reference side k.
+      out[no++] = {p.p + (q.p - p.p) * t, clip_key(p.edge, k), p.edge};
+    }
+  }
+  return no;
+}
+
+/// Clips the incident polygon (face inf of inc) against the side planes of the reference face
+/// (face rf of ref); keeps the points within the prediction distance, at most 4.
 template <ScalarReal S>
 void clip_faces(face_set<S> const& ref, GIso3<S> const& ref_pose, std::uint32_t rf,
                 face_set<S> const& inc, GIso3<S> const& inc_pose, std::uint32_t inf, bool ref_is_b,
                 S r_ref, S r_inc, ManifoldConfig const& cfg, GManifold<S>& m) {
-  // Each point keeps its feature key and the original incident edge it starts (edge i runs
-  // from incident vertex i to i + 1), so a clipped point's key (incident edge, reference
-  // side) names the same features every frame.
-  struct vtx {
-    GVec3<S> p;
-    std::uint32_t key;
-    std::uint32_t edge;
-  };
-  std::array<vtx, 64> buf_a{}, buf_b{};
-  int na = 0;
+  std::array<clip_vertex<S>, 64> buf_a{}, buf_b{};
+  int n = 0;
   auto const iv = inc.face(inf);
-  for (std::uint32_t i = 0; i < iv.size() && na < 64; ++i)
-    buf_a[std::size_t(na++)] = {inc_pose.transform_point(inc.verts[iv[i]]), i, i};
+  for (std::uint32_t i = 0; i < iv.size() && n < 64; ++i)
+    buf_a[std::size_t(n++)] = {inc_pose.transform_point(inc.verts[iv[i]]), i, i};
   auto const rv = ref.face(rf);
   GVec3<S> const rn = ref_pose.transform_vector(ref.faces[rf].normal);
   GVec3<S> const r0 = ref_pose.transform_point(ref.verts[rv[0]]);
-  vtx* in = buf_a.data();
-  vtx* out = buf_b.data();
-  for (std::uint32_t k = 0; k < rv.size() && na > 0; ++k) {
+  clip_vertex<S>* in = buf_a.data();
+  clip_vertex<S>* out = buf_b.data();
+  for (std::uint32_t k = 0; k < rv.size() && n > 0; ++k) {
     GVec3<S> const a = ref_pose.transform_point(ref.verts[rv[k]]);
     GVec3<S> const b = ref_pose.transform_point(ref.verts[rv[(k + 1) % rv.size()]]);
-    GVec3<S> const side = rn.cross(b - a); // points into the face
-    int no = 0;
-    for (int i = 0; i < na; ++i) {
-      vtx const& p = in[i];
-      vtx const& q = in[(i + 1) % na];
-      S const dp = (p.p - a).dot(side), dq = (q.p - a).dot(side);
-      if (dp >= S(0) && no < 64) out[no++] = p;
-      if ((dp >= S(0)) != (dq >= S(0)) && no < 64) {
-        S const t = dp / (dp - dq);
-        // A new point where incident edge i crosses reference side k.
-        out[no++] = {p.p + (q.p - p.p) * t, 0x80000u | ((p.edge & 0x3ff) << 8) | (k & 0xff),
-                     p.edge};
-      }
-    }
+    n = clip_side(in, n, a, rn.cross(b - a), k, out); // rn x (b - a) points into the face
     std::swap(in, out);
-    na = no;
   }
   candidates<S> c;
-  for (int i = 0; i < na; ++i) {
-    S const s = (in[i].p - r0).dot(rn) - r_ref - r_inc;
-    if (s > S(cfg.prediction)) continue;
-    GVec3<S> const on_inc = in[i].p - rn * r_inc;
-    GVec3<S> const on_ref = in[i].p - rn * ((in[i].p - r0).dot(rn) - r_ref);
-    std::uint64_t const id = feature_id(ref_is_b, rf, inf, in[i].key);
-    c.add(ref_is_b ? GContactPoint<S>{on_inc, on_ref, s, id}
-                   : GContactPoint<S>{on_ref, on_inc, s, id});
-  }
+  for (int i = 0; i < n; ++i)
+    add_plane_contact(c, in[i].p, rn, r0, r_ref, r_inc, ref_is_b,
+                      feature_id(ref_is_b, rf, inf, in[i].key), cfg);
   m.normal = ref_is_b ? -rn : rn;
   reduce_into(c, m.normal, m);
 }
@@ -395,7 +457,7 @@ void clip_segment(face_set<S> const& ref, GIso3<S> const& ref_pose, std::uint32_
   GVec3<S> const rn = ref_pose.transform_vector(ref.faces[rf].normal);
   GVec3<S> const r0 = ref_pose.transform_point(ref.verts[rv[0]]);
   S t0 = S(0), t1 = S(1);
-  std::uint32_t k0 = 0, k1 = 1; // end keys: 0/1 = the segment's own ends, 0x80000|k = clipped
+  std::uint32_t k0 = 0, k1 = 1; // end keys: 0/1 = the segment's own ends, else clipped
   GVec3<S> const d = p1 - p0;
   for (std::uint32_t k = 0; k < rv.size(); ++k) {
     GVec3<S> const a = ref_pose.transform_point(ref.verts[rv[k]]);
@@ -408,23 +470,40 @@ void clip_segment(face_set<S> const& ref, GIso3<S> const& ref_pose, std::uint32_
       continue;
     }
     S const t = -s0 / sd;
-    if (sd > S(0) && t > t0) t0 = t, k0 = 0x80000u | k;
-    if (sd < S(0) && t < t1) t1 = t, k1 = 0x80000u | k;
+    if (sd > S(0) && t > t0) t0 = t, k0 = segment_clip_key(k);
+    if (sd < S(0) && t < t1) t1 = t, k1 = segment_clip_key(k);
   }
   m.normal = ref_is_b ? -rn : rn;
   if (t1 < t0) return;
   candidates<S> c;
-  for (int e = 0; e < 2; ++e) {
-    GVec3<S> const p = p0 + d * (e == 0 ? t0 : t1);
-    S const s = (p - r0).dot(rn) - r_seg;
-    if (s > S(cfg.prediction)) continue;
-    GVec3<S> const on_seg = p - rn * r_seg;
-    GVec3<S> const on_ref = p - rn * (p - r0).dot(rn);
-    std::uint64_t const id = feature_id(ref_is_b, rf, 0xfffff, e == 0 ? k0 : k1);
-    c.add(ref_is_b ? GContactPoint<S>{on_seg, on_ref, s, id}
-                   : GContactPoint<S>{on_ref, on_seg, s, id});
-  }
+  for (int e = 0; e < 2; ++e)
+    add_plane_contact(c, p0 + d * (e == 0 ? t0 : t1), rn, r0, S(0), r_seg, ref_is_b,
+                      feature_id(ref_is_b, rf, id_bits::no_face, e == 0 ? k0 : k1), cfg);
   reduce_into(c, m.normal, m);
+}
+
+/// The vertices of fs (at pose) within the prediction distance of the plane (world normal n
+/// through o), the 64 deepest when there are more: (separation, vertex) pairs into deepest;
+/// returns their count.
+template <ScalarReal S>
+int deepest_vertices(face_set<S> const& fs, GIso3<S> const& pose, GVec3<S> const& n,
+                     GVec3<S> const& o, ManifoldConfig const& cfg,
+                     std::array<std::pair<S, std::uint32_t>, candidates<S>::capacity>& deepest) {
+  constexpr int cap = candidates<S>::capacity;
+  int nd = 0;
+  for (std::uint32_t i = 0; i < fs.verts.size(); ++i) {
+    S const sep = (pose.transform_point(fs.verts[i]) - o).dot(n);
+    if (sep > S(cfg.prediction)) continue;
+    if (nd < cap) {
+      deepest[std::size_t(nd++)] = {sep, i};
+    } else {
+      std::size_t worst = 0;
+      for (std::size_t k = 1; k < std::size_t(cap); ++k)
+        if (deepest[k].first > deepest[worst].first) worst = k;
+      if (sep < deepest[worst].first) deepest[worst] = {sep, i};
+    }
+  }
+  return nd;
 }
 
 /// The points of a shape below a half-space (plane normal n through point o, world).
@@ -432,15 +511,11 @@ template <ScalarReal S, class Shape>
 void against_plane(GVec3<S> const& n, GVec3<S> const& o, Shape const& s, GIso3<S> const& pose,
                    bool plane_is_b, ManifoldConfig const& cfg, GManifold<S>& m) {
   candidates<S> c;
+  // The plane is the reference; the ids' first field is set the other way round (kept: a
+  // change would renumber every plane contact).
   auto const add = [&](GVec3<S> const& core_local, S radius, std::uint32_t key) {
-    GVec3<S> const p = pose.transform_point(core_local);
-    S const sep = (p - o).dot(n) - radius;
-    if (sep > S(cfg.prediction)) return;
-    GVec3<S> const on_shape = p - n * radius;
-    GVec3<S> const on_plane = p - n * (p - o).dot(n);
-    std::uint64_t const id = feature_id(!plane_is_b, 0, 0, key);
-    c.add(plane_is_b ? GContactPoint<S>{on_shape, on_plane, sep, id}
-                     : GContactPoint<S>{on_plane, on_shape, sep, id});
+    add_plane_contact(c, pose.transform_point(core_local), n, o, S(0), radius, plane_is_b,
+                      feature_id(!plane_is_b, 0, 0, key), cfg);
   };
   using K = shape_kind<Shape>;
   if constexpr (K::sphere) {
@@ -449,23 +524,9 @@ void against_plane(GVec3<S> const& n, GVec3<S> const& o, Shape const& s, GIso3<S
     add(GVec3<S>{S(0), -s.half_height, S(0)}, s.radius, 0);
     add(GVec3<S>{S(0), s.half_height, S(0)}, s.radius, 1);
   } else if constexpr (K::polytope) {
-    // Every vertex within reach; beyond 64 of them, the 64 deepest.
     with_faces(s, [&](face_set<S> const& fs) {
-      constexpr int cap = candidates<S>::capacity;
-      std::array<std::pair<S, std::uint32_t>, cap> deepest{};
-      int nd = 0;
-      for (std::uint32_t i = 0; i < fs.verts.size(); ++i) {
-        S const sep = (pose.transform_point(fs.verts[i]) - o).dot(n);
-        if (sep > S(cfg.prediction)) continue;
-        if (nd < cap) {
-          deepest[std::size_t(nd++)] = {sep, i};
-        } else {
-          std::size_t worst = 0;
-          for (std::size_t k = 1; k < std::size_t(cap); ++k)
-            if (deepest[k].first > deepest[worst].first) worst = k;
-          if (sep < deepest[worst].first) deepest[worst] = {sep, i};
-        }
-      }
+      std::array<std::pair<S, std::uint32_t>, candidates<S>::capacity> deepest{};
+      int const nd = deepest_vertices(fs, pose, n, o, cfg, deepest);
       for (int k = 0; k < nd; ++k)
         add(fs.verts[deepest[std::size_t(k)].second], S(0), deepest[std::size_t(k)].second);
       return 0;
@@ -476,6 +537,142 @@ void against_plane(GVec3<S> const& n, GVec3<S> const& o, Shape const& s, GIso3<S
   }
   m.normal = plane_is_b ? -n : n;
   reduce_into(c, m.normal, m);
+}
+
+/// sin of the angle in [0, pi/2] whose cosine is c.
+template <ScalarReal S>
+S sine_of(S c) noexcept {
+  return std::sqrt(std::max(S(1) - c * c, S(0)));
+}
+
+/// The ends of a capsule's core segment, world: (0, -h, 0) and (0, h, 0) placed by pose.
+template <ScalarReal S, class Cap>
+std::pair<GVec3<S>, GVec3<S>> core_segment(Cap const& cap, GIso3<S> const& pose) noexcept {
+  return {pose.transform_point({S(0), -cap.half_height, S(0)}),
+          pose.transform_point({S(0), cap.half_height, S(0)})};
+}
+
+/// Two boxes by the separating-axis test. True when that decides the manifold: apart by more
+/// than the prediction distance, or a face contact whose clip kept points. False (m empty)
+/// for an edge axis, an empty clip or a non-finite separation: the general path decides.
+template <ScalarReal S>
+bool box_pair(GCuboid<S> const& a, GIso3<S> const& pose_a, GCuboid<S> const& b,
+              GIso3<S> const& pose_b, ManifoldConfig const& cfg, GManifold<S>& m) {
+  box_sat<S> const sat(a, pose_a, b, pose_b, S(0.1) * S(cfg.prediction));
+  if (!(sat.separation <= S(cfg.prediction)) && std::isfinite(sat.separation)) {
+    m.normal = sat.normal;
+    return true;
+  }
+  if (sat.kind == box_sat<S>::edge || !std::isfinite(sat.separation)) return false;
+  box_faces<S> const bfa(a.half_extents), bfb(b.half_extents);
+  face_set<S> const fa = bfa.view(), fb = bfb.view();
+  if (sat.kind == box_sat<S>::face_a) {
+    auto const rf = best_face(fa, pose_a, sat.normal).first;
+    auto const inc = best_face(fb, pose_b, -sat.normal).first;
+    clip_faces(fa, pose_a, rf, fb, pose_b, inc, false, S(0), S(0), cfg, m);
+  } else {
+    auto const rf = best_face(fb, pose_b, -sat.normal).first;
+    auto const inc = best_face(fa, pose_a, sat.normal).first;
+    clip_faces(fb, pose_b, rf, fa, pose_a, inc, true, S(0), S(0), cfg, m);
+  }
+  if (m.count > 0) return true;
+  m = GManifold<S>{};
+  return false;
+}
+
+/// Two polytopes in contact (p): the face of either whose normal is within cfg.face_alignment
+/// of p's is the reference (A's unless B's is better aligned by 1e-5), the other shape's most
+/// anti-parallel face is clipped against it; else, or when the clip loses every point (a
+/// sliver), p's one point.
+template <ScalarReal S, class A, class B>
+void polytope_pair(A const& a, GIso3<S> const& pose_a, B const& b, GIso3<S> const& pose_b,
+                   GPenetrationResult<S> const& p, ManifoldConfig const& cfg, GManifold<S>& m) {
+  S const cos_face = S(cfg.face_alignment);
+  with_faces(a, [&](face_set<S> const& fa) {
+    return with_faces(b, [&](face_set<S> const& fb) {
+      auto const [ia, align_a] = best_face(fa, pose_a, p.normal);
+      auto const [ib, align_b] = best_face(fb, pose_b, -p.normal);
+      if (std::max(align_a, align_b) < cos_face) {
+        single_point(p, m, cfg);
+        return 0;
+      }
+      bool const ref_is_b = align_b > align_a + S(1e-5);
+      if (!ref_is_b) {
+        GVec3<S> const rn = pose_a.transform_vector(fa.faces[ia].normal);
+        auto const inc = best_face(fb, pose_b, -rn).first;
+        clip_faces(fa, pose_a, ia, fb, pose_b, inc, false, S(0), S(0), cfg, m);
+      } else {
+        GVec3<S> const rn = pose_b.transform_vector(fb.faces[ib].normal);
+        auto const inc = best_face(fa, pose_a, -rn).first;
+        clip_faces(fb, pose_b, ib, fa, pose_a, inc, true, S(0), S(0), cfg, m);
+      }
+      if (m.count == 0) single_point(p, m, cfg);
+      return 0;
+    });
+  });
+}
+
+/// A capsule against a polytope in contact (p; CapIsA: the capsule is shape A): the core
+/// segment clipped to the polytope's face (the reference) when that face is within
+/// cfg.face_alignment of the normal and the segment parallel to it, two points; else, or when
+/// the clip keeps nothing, p's one point.
+template <bool CapIsA, ScalarReal S, class Cap, class Poly>
+void capsule_on_polytope(Cap const& cap, GIso3<S> const& cap_pose, Poly const& poly,
+                         GIso3<S> const& poly_pose, GPenetrationResult<S> const& p,
+                         ManifoldConfig const& cfg, GManifold<S>& m) {
+  S const cos_face = S(cfg.face_alignment);
+  GVec3<S> const to_poly = CapIsA ? p.normal : -p.normal; // from the capsule toward it
+  auto const seg = core_segment(cap, cap_pose); // not a structured binding: the lambda captures
+  GVec3<S> const p0 = seg.first, p1 = seg.second;
+  GVec3<S> const axis = (p1 - p0).normalize_or_zero();
+  with_faces(poly, [&](face_set<S> const& fs) {
+    auto const [f, align] = best_face(fs, poly_pose, -to_poly);
+    if (align < cos_face || std::abs(axis.dot(to_poly)) > sine_of(cos_face) ||
+        cap.half_height == S(0)) {
+      single_point(p, m, cfg);
+      return 0;
+    }
+    // The polytope's face is the reference: it is B's when the capsule is A.
+    clip_segment(fs, poly_pose, f, p0, p1, CapIsA, cap.radius, cfg, m);
+    if (m.count == 0) single_point(p, m, cfg);
+    return 0;
+  });
+}
+
+/// Two capsules in contact (p): when the core segments are parallel within
+/// cfg.face_alignment and perpendicular to the normal, B's segment clipped to A's extent
+/// along A's axis, each end against A's line (two points); else, or when they do not
+/// overlap along the axis, p's one point.
+template <ScalarReal S, class CA, class CB>
+void capsule_pair(CA const& a, GIso3<S> const& pose_a, CB const& b, GIso3<S> const& pose_b,
+                  GPenetrationResult<S> const& p, ManifoldConfig const& cfg, GManifold<S>& m) {
+  auto const [a0, a1] = core_segment(a, pose_a);
+  auto const [b0, b1] = core_segment(b, pose_b);
+  GVec3<S> const da = a1 - a0, db = b1 - b0;
+  S const la = da.length(), lb = db.length();
+  S const sin_face = sine_of(S(cfg.face_alignment));
+  bool const parallel = la > S(0) && lb > S(0) && da.cross(db).length() <= sin_face * la * lb &&
+                        std::abs(da.dot(p.normal)) <= sin_face * la;
+  if (!parallel) return single_point(p, m, cfg);
+  GVec3<S> const ua = da / la;
+  S const tb0 = (b0 - a0).dot(ua), tb1 = (b1 - a0).dot(ua);
+  S const lo = std::max(std::min(tb0, tb1), S(0)), hi = std::min(std::max(tb0, tb1), la);
+  if (hi < lo) return single_point(p, m, cfg);
+  candidates<S> c;
+  S const span = tb1 - tb0;
+  for (int e = 0; e < 2; ++e) {
+    S const t = e == 0 ? lo : hi;
+    S const u = span != S(0) ? (t - tb0) / span : S(0);
+    GVec3<S> const pb = b0 + db * u;
+    GVec3<S> const pa = a0 + ua * t;
+    S const sep = (pb - pa).dot(p.normal) - a.radius - b.radius;
+    if (sep > S(cfg.prediction)) continue;
+    c.add({pa + p.normal * a.radius, pb - p.normal * b.radius, sep,
+           feature_id(false, 0, 0, std::uint32_t(e))});
+  }
+  m.normal = p.normal;
+  reduce_into(c, m.normal, m);
+  if (m.count == 0) single_point(p, m, cfg);
 }
 
 } // namespace detail
@@ -506,26 +703,7 @@ GManifold<S> contact_manifold(A const& a, GIso3<S> const& pose_a, B const& b,
     if constexpr (std::is_same_v<A, GCuboid<S>> && std::is_same_v<B, GCuboid<S>>) {
       // Boxes: the separating-axis test finds face contacts (nearly all of a box pile) at a
       // fraction of GJK + EPA's cost; edge contacts and empty clips take the general path.
-      detail::box_sat<S> const sat(a, pose_a, b, pose_b, S(0.1) * S(cfg.prediction));
-      if (!(sat.separation <= S(cfg.prediction)) && std::isfinite(sat.separation)) {
-        m.normal = sat.normal; // apart by more than the prediction distance
-        return m;
-      }
-      if (sat.kind != detail::box_sat<S>::edge && std::isfinite(sat.separation)) {
-        detail::box_faces<S> const bfa(a.half_extents), bfb(b.half_extents);
-        detail::face_set<S> const fa = bfa.view(), fb = bfb.view();
-        if (sat.kind == detail::box_sat<S>::face_a) {
-          auto const rf = detail::best_face(fa, pose_a, sat.normal).first;
-          auto const inc = detail::best_face(fb, pose_b, -sat.normal).first;
-          detail::clip_faces(fa, pose_a, rf, fb, pose_b, inc, false, S(0), S(0), cfg, m);
-        } else {
-          auto const rf = detail::best_face(fb, pose_b, -sat.normal).first;
-          auto const inc = detail::best_face(fa, pose_a, sat.normal).first;
-          detail::clip_faces(fb, pose_b, rf, fa, pose_a, inc, true, S(0), S(0), cfg, m);
-        }
-        if (m.count > 0) return m;
-        m = GManifold<S>{};
-      }
+      if (detail::box_pair(a, pose_a, b, pose_b, cfg, m)) return m;
     }
     GPenetrationResult<S> const p = penetration(a, pose_a, b, pose_b, cfg.epa);
     if (p.status == PenetrationStatus::failed) {
@@ -534,109 +712,17 @@ GManifold<S> contact_manifold(A const& a, GIso3<S> const& pose_a, B const& b,
     }
     m.normal = p.normal;
     if (-p.depth > S(cfg.prediction)) return m;
-    S const cos_face = S(cfg.face_alignment);
-    if constexpr (KA::polytope && KB::polytope) {
-      detail::with_faces(a, [&](detail::face_set<S> const& fa) {
-        return detail::with_faces(b, [&](detail::face_set<S> const& fb) {
-          auto const [ia, align_a] = detail::best_face(fa, pose_a, p.normal);
-          auto const [ib, align_b] = detail::best_face(fb, pose_b, -p.normal);
-          if (std::max(align_a, align_b) < cos_face) {
-            detail::single_point(p, m, cfg);
-            return 0;
-          }
-          bool const ref_is_b = align_b > align_a + S(1e-5);
-          if (!ref_is_b) {
-            GVec3<S> const rn = pose_a.transform_vector(fa.faces[ia].normal);
-            auto const inc = detail::best_face(fb, pose_b, -rn).first;
-            detail::clip_faces(fa, pose_a, ia, fb, pose_b, inc, false, S(0), S(0), cfg, m);
-          } else {
-            GVec3<S> const rn = pose_b.transform_vector(fb.faces[ib].normal);
-            auto const inc = detail::best_face(fa, pose_a, -rn).first;
-            detail::clip_faces(fb, pose_b, ib, fa, pose_a, inc, true, S(0), S(0), cfg, m);
-          }
-          if (m.count == 0) // clipping lost everything (a sliver): keep the deepest point
-            detail::single_point(p, m, cfg);
-          return 0;
-        });
-      });
-      return m;
-    } else if constexpr ((KA::capsule && KB::polytope) || (KA::polytope && KB::capsule)) {
-      constexpr bool cap_is_a = KA::capsule;
-      auto const& cap = [&]() -> auto const& {
-        if constexpr (cap_is_a)
-          return a;
-        else
-          return b;
-      }
-      ();
-      auto const& poly = [&]() -> auto const& {
-        if constexpr (cap_is_a)
-          return b;
-        else
-          return a;
-      }
-      ();
-      GIso3<S> const& cap_pose = cap_is_a ? pose_a : pose_b;
-      GIso3<S> const& poly_pose = cap_is_a ? pose_b : pose_a;
-      GVec3<S> const to_poly = cap_is_a ? p.normal : -p.normal; // from the capsule toward it
-      GVec3<S> const p0 = cap_pose.transform_point({S(0), -cap.half_height, S(0)});
-      GVec3<S> const p1 = cap_pose.transform_point({S(0), cap.half_height, S(0)});
-      GVec3<S> const axis = (p1 - p0).normalize_or_zero();
-      detail::with_faces(poly, [&](detail::face_set<S> const& fs) {
-        auto const [f, align] = detail::best_face(fs, poly_pose, -to_poly);
-        S const sin_face = std::sqrt(std::max(S(1) - cos_face * cos_face, S(0)));
-        if (align < cos_face || std::abs(axis.dot(to_poly)) > sin_face || cap.half_height == S(0)) {
-          detail::single_point(p, m, cfg);
-          return 0;
-        }
-        // The polytope's face is the reference: it is B's when the capsule is A.
-        detail::clip_segment(fs, poly_pose, f, p0, p1, cap_is_a, cap.radius, cfg, m);
-        if (m.count == 0) detail::single_point(p, m, cfg);
-        return 0;
-      });
-      return m;
-    } else if constexpr (KA::capsule && KB::capsule) {
-      GVec3<S> const a0 = pose_a.transform_point({S(0), -a.half_height, S(0)});
-      GVec3<S> const a1 = pose_a.transform_point({S(0), a.half_height, S(0)});
-      GVec3<S> const b0 = pose_b.transform_point({S(0), -b.half_height, S(0)});
-      GVec3<S> const b1 = pose_b.transform_point({S(0), b.half_height, S(0)});
-      GVec3<S> const da = a1 - a0, db = b1 - b0;
-      S const la = da.length(), lb = db.length();
-      S const sin_face = std::sqrt(std::max(S(1) - cos_face * cos_face, S(0)));
-      bool const parallel = la > S(0) && lb > S(0) && da.cross(db).length() <= sin_face * la * lb &&
-                            std::abs(da.dot(p.normal)) <= sin_face * la;
-      if (!parallel) {
-        detail::single_point(p, m, cfg);
-        return m;
-      }
-      // B's segment clipped to A's extent along A's axis; each end against A's line.
-      GVec3<S> const ua = da / la;
-      S tb0 = (b0 - a0).dot(ua), tb1 = (b1 - a0).dot(ua);
-      S const lo = std::max(std::min(tb0, tb1), S(0)), hi = std::min(std::max(tb0, tb1), la);
-      if (hi < lo) {
-        detail::single_point(p, m, cfg);
-        return m;
-      }
-      detail::candidates<S> c;
-      S const span = tb1 - tb0;
-      for (int e = 0; e < 2; ++e) {
-        S const t = e == 0 ? lo : hi;
-        S const u = span != S(0) ? (t - tb0) / span : S(0);
-        GVec3<S> const pb = b0 + db * u;
-        GVec3<S> const pa = a0 + ua * t;
-        S const sep = (pb - pa).dot(p.normal) - a.radius - b.radius;
-        if (sep > S(cfg.prediction)) continue;
-        c.add({pa + p.normal * a.radius, pb - p.normal * b.radius, sep,
-               detail::feature_id(false, 0, 0, std::uint32_t(e))});
-      }
-      m.normal = p.normal;
-      detail::reduce_into(c, m.normal, m);
-      if (m.count == 0) detail::single_point(p, m, cfg);
-      return m;
-    } else {
+    if constexpr (KA::polytope && KB::polytope)
+      detail::polytope_pair(a, pose_a, b, pose_b, p, cfg, m);
+    else if constexpr (KA::capsule && KB::polytope)
+      detail::capsule_on_polytope<true>(a, pose_a, b, pose_b, p, cfg, m);
+    else if constexpr (KA::polytope && KB::capsule)
+      detail::capsule_on_polytope<false>(b, pose_b, a, pose_a, p, cfg, m);
+    else if constexpr (KA::capsule && KB::capsule)
+      detail::capsule_pair(a, pose_a, b, pose_b, p, cfg, m);
+    else
       detail::single_point(p, m, cfg);
-      return m;
-    }
+    return m;
   }
 }
 

@@ -23,13 +23,14 @@
 //    from inside a solid sphere or capsule a direction whose dot product with the origin
 //    (relative to the centre, or to the capsule's upper end) overflows counts as
 //    non-finite: a miss (|dir| above about 3e38 / size).
-//  - Robust forms (notes/collision.md): the sphere and cylinder discriminants are computed
-//    as a (r^2 - |f - (b/a) d|^2) = a r^2 - |f x d|^2, without the cancellation of b^2 - a c
-//    for small or far shapes, and the roots as c/q and q/a with q = -(b + sign(b) sqrt(disc))
-//    (one division for both); slab tests treat a zero direction component (+0 or -0), or
-//    one so small that 1/d overflows, as parallel and decide by whether the origin lies in
-//    the (closed) slab: the 0 * inf = NaN of an origin on a slab plane never rejects the ray,
-//    and an entry at t = +infinity is a miss.
+//  - Robust forms (Haines, Guenther and Akenine-Moeller, "Precision Improvements for
+//    Ray/Sphere Intersection", Ray Tracing Gems, 2019): the sphere and cylinder discriminants
+//    are computed as a (r^2 - |f - (b/a) d|^2) = a r^2 - |f x d|^2, without the cancellation
+//    of b^2 - a c for small or far shapes, and the roots as c/q and q/a with
+//    q = -(b + sign(b) sqrt(disc)) (one division for both); slab tests treat a zero direction
+//    component (+0 or -0), or one so small that 1/d overflows, as parallel and decide by whether
+//    the origin lies in the (closed) slab: the 0 * inf = NaN of an origin on a slab plane never
+//    rejects the ray, and an entry at t = +infinity is a miss.
 //  - A grazing ray that touches the surface in one point hits (tangency counts).
 //  - feature: the part of the shape hit, where the shape has parts, -1 on a miss or a solid
 //    hit from inside: cuboids and AABBs 0..5 = the -x, +x, -y, +y, -z, +z face; capsules
@@ -39,11 +40,9 @@
 //    triangles 0 front (the side (b - a) x (c - a) points to), 1 back; spheres and
 //    half-spaces 0. A number of type T, so that wide hits carry one per lane.
 //
-// Locals copied whole (into a returned struct, or a struct copied as one) are not const:
-// g++ 12's scalar replacement of aggregates gives up on a const local that inlined code
-// stores into, so the local, and the struct built from it, stay on the stack: stores and
-// reloads in every wide loop (one const mask cost the AVX2 triangle cast 45 instructions
-// and 23 stack references per batch).
+// Code shape, kept for the wide loops (docs/performance.md, "Ray casts"): locals copied whole
+// into a returned struct are not const; normals use normalize_or(GVec3<T>{}), which gives
+// normalize_or_zero()'s bits without loading its ZERO constant.
 #pragma once
 
 #include <plume/collision/shapes.hpp>
@@ -84,14 +83,6 @@ struct ray_interval {
   mask_t<T> ok; ///< the line meets the set
   T tin, tout;
 };
-
-/// v / |v|, or zero where that is not finite (normalize_or_zero, kept inline for wide
-/// kernels).
-template <Real T>
-PLUME_INLINE GVec3<T> unit_or_zero(GVec3<T> const& v) noexcept {
-  T const r = one<T>() / plume::sqrt(v.dot(v));
-  return GVec3<T>::select(plume::is_finite(r) & (r > zero<T>()), v * r, GVec3<T>{});
-}
 
 /// select(b < a, b, a) and select(b > a, b, a): a when the pair is unordered or equal.
 template <Real T>
@@ -153,7 +144,7 @@ struct entry_root {
 };
 template <bool Flat, Real T>
 PLUME_INLINE entry_root<T> quadric_entry(GVec3<T> const& f, GVec3<T> const& d, T r) noexcept {
-  T const z = zero<T>(), r2 = r * r;
+  T const zero = plume::zero<T>(), r2 = r * r;
   T a, b, c, disc;
   if constexpr (Flat) {
     a = d.x * d.x + d.z * d.z;
@@ -167,13 +158,11 @@ PLUME_INLINE entry_root<T> quadric_entry(GVec3<T> const& f, GVec3<T> const& d, T
     c = f.dot(f) - r2;
     disc = a * r2 - f.cross(d).length_squared();
   }
-  // The root first, the masks after: g++ emits x86 code close to source order, and masks
-  // computed first stay live across the square root and the division (with AVX2's 16
-  // registers the sphere's x8 loop had 6 stack references, now 3; the capsule's x8 loop is
-  // 4-6% faster). t, toward and ok are not const: see "Locals copied whole" above.
+  // The root first, the masks after, so that the masks are not live across the square root
+  // and the division (docs/performance.md, "Ray casts"); t, toward and ok are not const.
   T t = c / (plume::sqrt(disc) - b);
-  mask_t<T> toward = (b < z) & (a > z);
-  mask_t<T> ok = (toward & (c > z)) & (disc >= z);
+  mask_t<T> toward = (b < zero) & (a > zero);
+  mask_t<T> ok = (toward & (c > zero)) & (disc >= zero);
   return {ok, toward, t, b};
 }
 
@@ -229,22 +218,22 @@ struct pre_hit {
 template <Real T>
 PLUME_INLINE pre_hit<T> finish(mask_t<T> valid, mask_t<T> inside, ray_interval<T> const& iv,
                                T max_toi, bool solid) noexcept {
-  T const z = zero<T>();
-  auto const reach = iv.ok & (iv.tout >= z) & (iv.tin <= iv.tout);
+  T const zero = plume::zero<T>();
+  auto const reach = iv.ok & (iv.tout >= zero) & (iv.tin <= iv.tout);
   auto const outside = !inside;
-  T const t_enter = max_of(iv.tin, z);
+  T const t_enter = max_of(iv.tin, zero);
   pre_hit<T> h;
   if (solid) {
-    h.toi = plume::select(inside, z, t_enter);
+    h.toi = plume::select(inside, zero, t_enter);
     h.hit = valid & (inside | (outside & reach));
-    h.leaving = z < z;
+    h.leaving = no_lanes<T>();
     h.bare = inside;
   } else {
-    h.toi = plume::select(inside, max_of(iv.tout, z), t_enter);
-    h.hit =
-        valid & ((outside & reach) | (inside & iv.ok & (iv.tout >= z) & (iv.tout < infinity<T>())));
+    h.toi = plume::select(inside, max_of(iv.tout, zero), t_enter);
+    h.hit = valid &
+            ((outside & reach) | (inside & iv.ok & (iv.tout >= zero) & (iv.tout < infinity<T>())));
     h.leaving = inside;
-    h.bare = z < z;
+    h.bare = no_lanes<T>();
   }
   h.hit = h.hit & (h.toi <= max_toi);
   h.at = h.toi;
@@ -305,8 +294,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray,
   T const r2 = s.radius * s.radius;
   detail::pre_hit<T> h;
   if (solid) {
-    T const z = zero<T>();
-    auto e = detail::quadric_entry<false>(ray.origin, ray.dir, s.radius); // not const: header
+    auto e = detail::quadric_entry<false>(ray.origin, ray.dir, s.radius); // not const (see the top)
     auto const inside = ray.origin.length_squared() <= r2; // after the root (quadric_entry)
     // Validity without ray_valid's eleven operations: an entry implies a finite ray (see
     // quadric_entry), and an origin inside a finite radius is finite, so only the direction
@@ -317,7 +305,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray,
     T const toi = plume::select(inside, e.b - e.b, e.t);
     h.hit = (inside | e.toward) & (toi <= plume::min_select(max_value<T>(), max_toi));
     h.toi = plume::select(h.hit, toi, infinity<T>());
-    h.leaving = z < z;
+    h.leaving = no_lanes<T>();
     h.bare = inside;
     // The entry itself: the normal is kept only where the origin is outside, and there toi
     // is e.t (the inside lanes' select need not come first either).
@@ -351,9 +339,9 @@ PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T
                                  T max_toi, bool solid) noexcept {
   GVec3<T> const& o = ray.origin;
   GVec3<T> const& d = ray.dir;
-  T const z = zero<T>(), inf = infinity<T>();
+  T const zero = plume::zero<T>(), inf = infinity<T>();
   // Written axis by axis, each folded into running values as soon as it is known, so that a
-  // wide build keeps few registers live (with 16 ymm registers the whole-box form spilled).
+  // wide build keeps few registers live (docs/performance.md, "Ray casts").
   mask_t<T> const valid = ray_valid(ray);
   slab_axis<T> const sx = slab_crossings(o.x, d.x, lo.x, hi.x);
   // Entry: the slab entered last (first axis on ties); exit: the slab left first. NaN
@@ -377,14 +365,14 @@ PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T
     // tin <= 0 <= tout inside, so no inside term: a hit where max(tin, 0) <= tout, tin is
     // finite and the toi within max_toi, all in one compare: max(tin, 0) <= min(tout, FLT_MAX,
     // max_toi) (tin and tout are never NaN; min_select keeps a NaN max_toi, so it misses).
-    T const toi = plume::max_select(iv.tin, z);
+    T const toi = plume::max_select(iv.tin, zero);
     h.hit = valid & (toi <= plume::min_select(iv.tout, plume::min_select(max_value<T>(), max_toi)));
     h.toi = plume::select(h.hit, toi, inf);
     h.at = toi;
-    h.leaving = h.bare = z < z; // not read: the solid normal below tests tin > 0 itself
+    h.leaving = h.bare = no_lanes<T>(); // not read: the solid normal below tests tin > 0 itself
   } else {
     iv.ok = interval_met(iv.tin, iv.tout);
-    h = finish(valid, (below <= z) & (above >= z), iv, max_toi, false);
+    h = finish(valid, (below <= zero) & (above >= zero), iv, max_toi, false);
   }
   // Entering: the face of the entry slab, facing -dir; leaving: the exit slab's, facing dir.
   // That slab is z's where zs, else y's where ys, else x's. The normal there is +-1 along the
@@ -396,7 +384,7 @@ PLUME_INLINE GRayHit<T> box_cast(GVec3<T> const& lo, GVec3<T> const& hi, GRay3<T
   T const d_axis = plume::select(zs, d.z, plume::select(ys, d.y, d.x));
   T const one_out = solid ? -one<T>() : plume::select(h.leaving, one<T>(), -one<T>());
   T const u = select_sign(d_axis, -one_out, one_out);
-  auto const surface = solid ? h.hit & (iv.tin > z) : h.hit;
+  auto const surface = solid ? h.hit & (iv.tin > zero) : h.hit;
   T const nu = plume::keep_if(surface, u);
   GRayHit<T> out;
   out.hit = h.hit;
@@ -427,16 +415,15 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCuboid<T> const& box, GRay3<T> const& ra
 /// of radius r, so its entry is the cylinder's entry when that point is within |y| <= h,
 /// and otherwise the entry into the end sphere on that side (the one facing the ray for a
 /// ray along the axis, which misses the side); the exit likewise. Both end spheres are
-/// intersected alongside the side rather than the one a crossing needs after it: that
-/// sphere would wait for the side's square root and division, and the chain of two such
-/// steps bounded the kernel (latency, at every width).
+/// intersected alongside the side, not just the one a crossing needs after it, which would
+/// wait for the side's square root and division (docs/performance.md, "Ray casts").
 template <Real T>
 PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& ray, T max_toi,
                                        bool solid = true) noexcept {
   using V = GVec3<T>;
   V const& o = ray.origin;
   V const& d = ray.dir;
-  T const z = zero<T>(), h = cap.half_height, r = cap.radius;
+  T const zero = plume::zero<T>(), h = cap.half_height, r = cap.radius;
   T const cy = plume::clamp_select(o.y, -h, h); // (a NaN lane is invalid already)
   auto const inside = (V{o.x, o.y - cy, o.z}.length_squared() <= r * r);
   detail::pre_hit<T> hit;
@@ -464,7 +451,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& r
     hit.hit = toi <= plume::min_select(max_value<T>(), max_toi);
     hit.toi = plume::select(hit.hit, toi, inf);
     hit.at = entry; // where the normal is kept, the origin is outside: toi is the entry
-    hit.leaving = z < z;
+    hit.leaving = no_lanes<T>();
     hit.bare = inside;
   } else {
     auto const side = detail::quadric_roots<true>(o, d, r);
@@ -472,13 +459,13 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& r
     // one quadric deep, not two); each crossing picks its sphere's roots below.
     auto const top = detail::sphere_part(V{o.x, o.y - h, o.z}, d, r);
     auto const bottom = detail::sphere_part(V{o.x, o.y + h, o.z}, d, r);
-    auto const axial = (d.x == z) & (d.z == z);
+    auto const axial = (d.x == zero) & (d.z == zero);
     // The end sphere crossed (true: the top): on the side of the cylinder's crossing, or for a
     // ray along the axis the end facing the ray (entering) or away from it (leaving).
-    auto const top_faces = d.y < z; // the ray moves down, towards the top end's outside
+    auto const top_faces = d.y < zero; // the ray moves down, towards the top end's outside
     auto const top_crossed = [&](T t_side, bool entering) {
       T const y = o.y + d.y * t_side;
-      return plume::select(axial, entering ? top_faces : !top_faces, !(y < z));
+      return plume::select(axial, entering ? top_faces : !top_faces, !(y < zero));
     };
     auto const on_side = [&](T t_side) { return side.ok & (plume::abs(o.y + d.y * t_side) <= h); };
     mask_t<T> const reach = side.ok | axial;
@@ -498,8 +485,8 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& r
   T const inv_r = one<T>() / r;
   T const cy_hit = plume::clamp_select(p.y, -h, h);
   V const n = V{p.x, p.y - cy_hit, p.z} * inv_r;
-  T const part = plume::select(p.y > h, one<T>(), plume::select(p.y < -h, two<T>(), z));
-  return detail::with_normal(hit, n, part, r > z);
+  T const part = plume::select(p.y > h, one<T>(), plume::select(p.y < -h, two<T>(), zero));
+  return detail::with_normal(hit, n, part, r > zero);
 }
 
 /// Cylinder (local frame: radius r around Y, caps at y = +-h): the intersection of the
@@ -511,9 +498,9 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCylinder<T> const& cyl, GRay3<T> const& 
   using V = GVec3<T>;
   V const& o = ray.origin;
   V const& d = ray.dir;
-  T const z = zero<T>(), inf = infinity<T>(), h = cyl.half_height, r = cyl.radius;
+  T const zero = plume::zero<T>(), inf = infinity<T>(), h = cyl.half_height, r = cyl.radius;
   auto side = detail::quadric_roots<true>(o, d, r);
-  auto const axial = (d.x == z) & (d.z == z);
+  auto const axial = (d.x == zero) & (d.z == zero);
   auto const in_disc = o.x * o.x + o.z * o.z <= r * r;
   side.ok = plume::select(axial, in_disc, side.ok);
   side.tin = plume::select(axial, -inf, side.tin);
@@ -522,7 +509,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCylinder<T> const& cyl, GRay3<T> const& 
   auto const cap_in = caps.tin > side.tin, cap_out = caps.tout < side.tout;
   T const tin = plume::select(cap_in, caps.tin, side.tin);
   T const tout = plume::select(cap_out, caps.tout, side.tout);
-  T const up = plume::select(d.y < z, one<T>(), -one<T>()); // the cap entered faces -dir
+  T const up = plume::select(d.y < zero, one<T>(), -one<T>()); // the cap entered faces -dir
   // An outside parallel cap slab starts at +infinity: interval_met rejects it.
   mask_t<T> const meets = side.ok & detail::interval_met(tin, tout);
   detail::ray_interval<T> iv{meets, tin, tout};
@@ -530,9 +517,9 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCylinder<T> const& cyl, GRay3<T> const& 
   auto hit = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, solid); // not const
   auto const on_cap = plume::select(hit.leaving, cap_out, cap_in);
   V const p = ray.at(hit.toi);
-  V const n = V::select(on_cap, V{z, plume::select(hit.leaving, -up, up), z},
-                        detail::unit_or_zero(V{p.x, z, p.z}));
-  T const part = plume::select(on_cap, plume::select(n.y > z, one<T>(), two<T>()), z);
+  V const n = V::select(on_cap, V{zero, plume::select(hit.leaving, -up, up), zero},
+                        V{p.x, zero, p.z}.normalize_or(V{}));
+  T const part = plume::select(on_cap, plume::select(n.y > zero, one<T>(), two<T>()), zero);
   return detail::with_normal(hit, n, part);
 }
 
@@ -540,13 +527,13 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCylinder<T> const& cyl, GRay3<T> const& 
 template <Real T>
 PLUME_INLINE GRayHit<T> ray_cast_local(GHalfSpace<T> const& hs, GRay3<T> const& ray, T max_toi,
                                        bool solid = true) noexcept {
-  T const z = zero<T>(), inf = infinity<T>();
+  T const zero = plume::zero<T>(), inf = infinity<T>();
   T const s = hs.normal.dot(ray.origin), dn = hs.normal.dot(ray.dir);
   T const t = -s / dn;
-  auto const inside = s <= z;
+  auto const inside = s <= zero;
   // Outside: entered at t when moving towards the plane. Inside: left at t when moving out.
   detail::ray_interval<T> iv;
-  iv.ok = plume::select(inside, dn > z, dn < z);
+  iv.ok = plume::select(inside, dn > zero, dn < zero);
   iv.tin = plume::select(inside, -inf, t);
   iv.tout = plume::select(inside, t, inf);
   return detail::with_normal(detail::finish(detail::ray_valid(ray), inside, iv, max_toi, solid),
@@ -561,8 +548,8 @@ namespace detail {
 /// hits exactly one of them.
 template <Real T>
 PLUME_INLINE mask_t<T> owns_edge(T ex, T ey) noexcept {
-  T const z = zero<T>();
-  return (ey > z) | ((ey == z) & (ex > z));
+  T const zero = plume::zero<T>();
+  return (ey > zero) | ((ey == zero) & (ex > zero));
 }
 } // namespace detail
 
@@ -580,12 +567,12 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
   using V = GVec3<T>;
   using M = mask_t<T>;
   using S = scalar_t<T>;
-  T const z = zero<T>();
+  T const zero = plume::zero<T>();
   V const& d = ray.dir;
   // The normal and the ray's validity first, so that the vertices and the ray need not stay
-  // live to the end for them (with AVX2's 16 registers they were spilled there).
-  V const n = detail::unit_or_zero(tri.scaled_normal());
-  M const back = n.dot(d) > z; // coming from behind: the back face
+  // live to the end for them.
+  V const n = tri.scaled_normal().normalize_or(V{});
+  M const back = n.dot(d) > zero; // coming from behind: the back face
   V const facing = V::select(back, -n, n);
   M const valid = detail::ray_valid(ray);
   // kz: the axis of the largest |d| (first on ties); kx, ky the next ones cyclically, swapped
@@ -603,7 +590,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
     return plume::select(kz_x, p.z, plume::select(kz_y, p.x, p.y));
   };
   T const dz = pz(d);
-  M const flip = dz < z;
+  M const flip = dz < zero;
   auto const px = [&](V const& p) { return plume::select(flip, py0(p), px0(p)); };
   auto const py = [&](V const& p) { return plume::select(flip, px0(p), py0(p)); };
   T const sx = px(d) / dz, sy = py(d) / dz, sz = one<T>() / dz;
@@ -618,7 +605,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
   // float cannot tell from one), and only there does the edge need more work: a recompute
   // in double, then the ownership rule. Both wait behind one branch on any lane, so the
   // common case costs a compare; lanes with no zero are unchanged by either.
-  M const exact_zero = (U == z) | (Vv == z) | (W_ == z);
+  M const exact_zero = (U == zero) | (Vv == zero) | (W_ == zero);
   bool const any_zero = plume::any(exact_zero);
   if constexpr (std::is_same_v<S, float>) {
     if (any_zero) [[unlikely]] {
@@ -636,23 +623,23 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
   T const tn = (U * (sz * pz(A)) + Vv * (sz * pz(B))) + W_ * (sz * pz(C));
   T const t = tn / det;
   // Orient so the triangle is positive (det > 0): inside means every edge function >= 0.
-  M const pos = det > z;
+  M const pos = det > zero;
   T const su = plume::select(pos, U, -U), sv = plume::select(pos, Vv, -Vv),
           sw = plume::select(pos, W_, -W_);
-  M inside = (su > z) & (sv > z) & (sw > z);
+  M inside = (su > zero) & (sv > zero) & (sw > zero);
   if (any_zero) [[unlikely]] {
     // Edges opposite A, B, C: B -> C, C -> A, A -> B (reversed for a negative triangle); an
     // edge function still zero passes where the ray is on an edge this triangle owns.
     auto const edge_ok = [&](T e, T x0, T y0, T x1, T y1) {
       T const ex = plume::select(pos, x1 - x0, x0 - x1), ey = plume::select(pos, y1 - y0, y0 - y1);
-      return (e > z) | ((e == z) & detail::owns_edge(ex, ey));
+      return (e > zero) | ((e == zero) & detail::owns_edge(ex, ey));
     };
     inside =
         edge_ok(su, Bx, By, Cx, Cy) & edge_ok(sv, Cx, Cy, Ax, Ay) & edge_ok(sw, Ax, Ay, Bx, By);
   }
-  M hit = valid & inside & (det != z) & (t >= z) & (t <= max_toi); // not const: header
+  M hit = valid & inside & (det != zero) & (t >= zero) & (t <= max_toi); // not const (see the top)
   return {hit, plume::select(hit, t, infinity<T>()), detail::keep_where(hit, facing),
-          plume::select(hit, plume::select(back, one<T>(), z), -one<T>())};
+          plume::select(hit, plume::select(back, one<T>(), zero), -one<T>())};
 }
 
 /// Any shape at a pose: the ray is moved into the shape frame, the normal back out.

@@ -14,7 +14,8 @@
 // Each shape has volume(), local_aabb() and aabb(pose) (a half-space's box is infinite), and
 // support(dir): the point of the shape farthest along dir (dir need not be unit; a zero dir
 // gives a point of the shape). Degenerate sizes (radius 0, zero extents) are valid shapes:
-// a point, a segment, a flat box.
+// a point, a segment, a flat box. Sizes are not checked: a negative or non-finite one gives
+// unspecified results (the queries in gjk.hpp report a non-finite one as failed).
 //
 // Rounded form, used by the GJK family (collision/gjk.hpp): every bounded shape is a core
 // swept by a ball, shape = core (+) ball(core_radius()); core_support(dir) is the core's
@@ -133,10 +134,10 @@ struct GCuboid {
   }
   /// The corner farther along dir (positive on ties and zeros).
   GVec3<T> support(GVec3<T> const& dir) const noexcept {
-    T const z = zero<T>();
-    return {plume::select(dir.x < z, -half_extents.x, half_extents.x),
-            plume::select(dir.y < z, -half_extents.y, half_extents.y),
-            plume::select(dir.z < z, -half_extents.z, half_extents.z)};
+    T const zero = plume::zero<T>();
+    return {plume::select(dir.x < zero, -half_extents.x, half_extents.x),
+            plume::select(dir.y < zero, -half_extents.y, half_extents.y),
+            plume::select(dir.z < zero, -half_extents.z, half_extents.z)};
   }
   GVec3<T> core_support(GVec3<T> const& dir) const noexcept { return support(dir); }
   T core_radius() const noexcept { return zero<T>(); }

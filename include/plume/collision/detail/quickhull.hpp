@@ -1,5 +1,11 @@
 // plume/collision/detail/quickhull.hpp - the quickhull builder and the hull's mass
 // properties (included by collision/convex_hull.hpp; not a public header).
+//
+// GConvexHull<S>::build runs detail::hull_builder::run: the points are copied to double (all
+// of the build computes in double, whatever S is), a starting tetrahedron is grown one
+// farthest outside point at a time (Barber, Dobkin, Huhdanpaa 1996), and the triangles are
+// merged into the polygon faces GConvexHull stores. The conventions and errors are the ones
+// convex_hull.hpp states.
 #pragma once
 
 #include <algorithm>
@@ -9,58 +15,44 @@
 #include <limits>
 #include <map>
 #include <span>
+#include <utility>
 #include <vector>
 
-namespace plume {
+namespace plume::detail::hull_builder {
 
-struct detail_hull_builder {
-  struct D3 {
-    double x, y, z;
-    D3 operator-(D3 const& b) const { return {x - b.x, y - b.y, z - b.z}; }
-    D3 operator+(D3 const& b) const { return {x + b.x, y + b.y, z + b.z}; }
-    D3 operator*(double s) const { return {x * s, y * s, z * s}; }
-    double dot(D3 const& b) const { return x * b.x + y * b.y + z * b.z; }
-    D3 cross(D3 const& b) const {
-      return {y * b.z - z * b.y, z * b.x - x * b.z, x * b.y - y * b.x};
-    }
-    double length() const { return std::sqrt(dot(*this)); }
-  };
+/// A triangle of the hull under construction: v[i] -> v[i + 1] counter-clockwise from
+/// outside, nb[i] the triangle across that edge; outside: the points assigned to it.
+struct tri {
+  std::array<int, 3> v;
+  std::array<int, 3> nb;
+  DVec3 n;  ///< unit outward normal (zero for a degenerate triangle)
+  double d; ///< n . centroid
+  std::vector<int> outside;
+  bool alive = true;
+};
 
-  /// A triangle of the hull under construction: v[i] -> v[i + 1] counter-clockwise from
-  /// outside, nb[i] the triangle across that edge.
-  struct Tri {
-    std::array<int, 3> v;
-    std::array<int, 3> nb;
-    D3 n;
-    double d;
-    std::vector<int> outside;
-    bool alive = true;
-  };
-
-  std::vector<D3> p;
-  std::vector<Tri> tris;
+/// The hull under construction: the input points in double, every triangle made so far (dead
+/// ones stay, so that indices are stable) and the tolerance.
+struct state {
+  std::vector<DVec3> p;
+  std::vector<tri> tris;
   double tol = 0;
 
-  double dist(Tri const& t, int i) const { return t.n.dot(p[std::size_t(i)]) - t.d; }
+  DVec3 const& point(int i) const { return p[std::size_t(i)]; }
+  /// The signed distance of point i above t's plane.
+  double dist(tri const& t, int i) const { return t.n.dot(p[std::size_t(i)]) - t.d; }
 
+  /// Appends the triangle (a, b, c) with no neighbours yet; returns its index.
   int add_tri(int a, int b, int c) {
-    Tri t;
+    tri t;
     t.v = {a, b, c};
     t.nb = {-1, -1, -1};
-    D3 const n =
-        (p[std::size_t(b)] - p[std::size_t(a)]).cross(p[std::size_t(c)] - p[std::size_t(a)]);
+    DVec3 const n = (point(b) - point(a)).cross(point(c) - point(a));
     double const len = n.length();
-    t.n = len > 0 ? n * (1.0 / len) : D3{0, 0, 0};
-    t.d = t.n.dot((p[std::size_t(a)] + p[std::size_t(b)] + p[std::size_t(c)]) * (1.0 / 3.0));
+    t.n = len > 0 ? n * (1.0 / len) : DVec3{};
+    t.d = t.n.dot((point(a) + point(b) + point(c)) * (1.0 / 3.0));
     tris.push_back(std::move(t));
     return int(tris.size() - 1);
-  }
-
-  /// The index in tri t of the edge a -> b, or -1.
-  static int edge_of(Tri const& t, int a, int b) {
-    for (int i = 0; i < 3; ++i)
-      if (t.v[std::size_t(i)] == a && t.v[std::size_t((i + 1) % 3)] == b) return i;
-    return -1;
   }
 
   /// Gives each point in `pts` to the triangle (among `cands`) it is farthest outside of;
@@ -76,32 +68,27 @@ struct detail_hull_builder {
       if (best >= 0) tris[std::size_t(best)].outside.push_back(i);
     }
   }
-
-  template <ScalarReal S>
-  static HullBuild<S> run(std::span<GVec3<S> const> in, S tolerance);
-
-  template <ScalarReal S>
-  static void finish(detail_hull_builder& b, GConvexHull<S>& hull);
-
-  template <ScalarReal S>
-  static GMassProperties<S> mass(GConvexHull<S> const& h, S density);
 };
 
+/// The index in tri t of the edge a -> b, or -1.
+inline int edge_of(tri const& t, int a, int b) {
+  for (int i = 0; i < 3; ++i)
+    if (t.v[std::size_t(i)] == a && t.v[std::size_t((i + 1) % 3)] == b) return i;
+  return -1;
+}
+
+// ------------------------------------------------------------------------ the points
+
+/// Copies the points into b in double and sets b.tol (tolerance <= 0: the default, 16 eps(S)
+/// times the sum of the largest |coordinate| on each axis); too_few_points or non_finite.
 template <ScalarReal S>
-HullBuild<S> detail_hull_builder::run(std::span<GVec3<S> const> in, S tolerance) {
-  HullBuild<S> out;
-  if (in.size() < 4) {
-    out.error = HullError::too_few_points;
-    return out;
-  }
-  detail_hull_builder b;
+HullError load_points(std::span<GVec3<S> const> in, S tolerance, state& b) {
+  if (in.size() < 4) return HullError::too_few_points;
   b.p.reserve(in.size());
-  D3 amax{0, 0, 0};
+  DVec3 amax{};
   for (auto const& v : in) {
-    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) {
-      out.error = HullError::non_finite;
-      return out;
-    }
+    if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+      return HullError::non_finite;
     b.p.push_back({double(v.x), double(v.y), double(v.z)});
     amax = {std::max(amax.x, std::abs(double(v.x))), std::max(amax.y, std::abs(double(v.y))),
             std::max(amax.z, std::abs(double(v.z)))};
@@ -109,11 +96,21 @@ HullBuild<S> detail_hull_builder::run(std::span<GVec3<S> const> in, S tolerance)
   b.tol = tolerance > S(0)
               ? double(tolerance)
               : 16.0 * double(std::numeric_limits<S>::epsilon()) * (amax.x + amax.y + amax.z);
-  int const n = int(b.p.size());
-  auto const P = [&](int i) -> D3 const& { return b.p[std::size_t(i)]; };
+  return HullError::none;
+}
 
-  // Initial simplex: the two extreme points farthest apart on an axis, the point farthest
-  // from their line, the point farthest from that plane.
+// ------------------------------------------------------------- the starting tetrahedron
+
+/// The corners of the starting tetrahedron, i3 below the face (i0, i1, i2).
+struct corners {
+  int i0, i1, i2, i3;
+};
+
+/// Of the three pairs of extreme points along x, y and z, the pair farthest apart (the first
+/// on ties) and its length.
+inline std::pair<std::array<int, 2>, double> widest_extremes(state const& b) {
+  int const n = int(b.p.size());
+  auto const P = [&](int i) -> DVec3 const& { return b.point(i); };
   std::array<int, 6> ext{0, 0, 0, 0, 0, 0};
   for (int i = 0; i < n; ++i) {
     if (P(i).x < P(ext[0]).x) ext[0] = i;
@@ -129,98 +126,182 @@ HullBuild<S> detail_hull_builder::run(std::span<GVec3<S> const> in, S tolerance)
     double const l = (P(ext[std::size_t(2 * k + 1)]) - P(ext[std::size_t(2 * k)])).length();
     if (l > best) best = l, i0 = ext[std::size_t(2 * k)], i1 = ext[std::size_t(2 * k + 1)];
   }
-  if (best <= b.tol) {
-    out.error = HullError::coincident;
-    return out;
+  return {{i0, i1}, best};
+}
+
+/// The point farthest from the line through point i0 along the unit dir, if farther than
+/// tol; else -1.
+inline int farthest_from_line(state const& b, int i0, DVec3 const& dir) {
+  int best_i = -1;
+  double best = b.tol;
+  for (int i = 0; i < int(b.p.size()); ++i) {
+    double const l = (b.point(i) - b.point(i0)).cross(dir).length();
+    if (l > best) best = l, best_i = i;
   }
-  D3 const dir = (P(i1) - P(i0)) * (1.0 / best);
-  int i2 = -1;
-  best = b.tol;
-  for (int i = 0; i < n; ++i) {
-    double const l = (P(i) - P(i0)).cross(dir).length();
-    if (l > best) best = l, i2 = i;
+  return best_i;
+}
+
+/// The point farthest from the plane through point i0 with unit normal pn, if farther than
+/// tol; else -1.
+inline int farthest_from_plane(state const& b, int i0, DVec3 const& pn) {
+  int best_i = -1;
+  double best = b.tol;
+  for (int i = 0; i < int(b.p.size()); ++i) {
+    double const l = std::abs((b.point(i) - b.point(i0)).dot(pn));
+    if (l > best) best = l, best_i = i;
   }
-  if (i2 < 0) {
-    out.error = HullError::collinear;
-    return out;
-  }
-  D3 pn = (P(i1) - P(i0)).cross(P(i2) - P(i0));
+  return best_i;
+}
+
+/// The starting tetrahedron: the widest pair of axis extremes, the point farthest from their
+/// line, the point farthest from that plane; coincident, collinear or coplanar when one of
+/// them is within the tolerance.
+inline HullError find_corners(state const& b, corners& s) {
+  auto const [pair, length] = widest_extremes(b);
+  s.i0 = pair[0], s.i1 = pair[1];
+  if (length <= b.tol) return HullError::coincident;
+  DVec3 const dir = (b.point(s.i1) - b.point(s.i0)) * (1.0 / length);
+  s.i2 = farthest_from_line(b, s.i0, dir);
+  if (s.i2 < 0) return HullError::collinear;
+  DVec3 pn = (b.point(s.i1) - b.point(s.i0)).cross(b.point(s.i2) - b.point(s.i0));
   pn = pn * (1.0 / pn.length());
-  int i3 = -1;
-  best = b.tol;
-  for (int i = 0; i < n; ++i) {
-    double const l = std::abs((P(i) - P(i0)).dot(pn));
-    if (l > best) best = l, i3 = i;
-  }
-  if (i3 < 0) {
-    out.error = HullError::coplanar;
-    return out;
-  }
+  s.i3 = farthest_from_plane(b, s.i0, pn);
+  if (s.i3 < 0) return HullError::coplanar;
   // Orient so that i3 is below the face (i0, i1, i2).
-  if ((P(i3) - P(i0)).dot(pn) > 0) std::swap(i1, i2);
-  int const t0 = b.add_tri(i0, i1, i2);
-  int const t1 = b.add_tri(i0, i3, i1);
-  int const t2 = b.add_tri(i1, i3, i2);
-  int const t3 = b.add_tri(i2, i3, i0);
-  auto const link = [&](int t, int a, int c) {
-    for (int u = 0; u < int(b.tris.size()); ++u) {
-      if (u == t) continue;
-      int const e = edge_of(b.tris[std::size_t(u)], c, a);
-      if (e >= 0) {
-        b.tris[std::size_t(t)].nb[std::size_t(edge_of(b.tris[std::size_t(t)], a, c))] = u;
-        return;
-      }
+  if ((b.point(s.i3) - b.point(s.i0)).dot(pn) > 0) std::swap(s.i1, s.i2);
+  return HullError::none;
+}
+
+/// Sets t's neighbour across its edge a -> c: the first other triangle with the edge c -> a.
+inline void link_edge(state& b, int t, int a, int c) {
+  for (int u = 0; u < int(b.tris.size()); ++u) {
+    if (u == t) continue;
+    int const e = edge_of(b.tris[std::size_t(u)], c, a);
+    if (e >= 0) {
+      b.tris[std::size_t(t)].nb[std::size_t(edge_of(b.tris[std::size_t(t)], a, c))] = u;
+      return;
     }
-  };
+  }
+}
+
+/// The four triangles of the starting tetrahedron, linked, with every other point given to one of
+/// them.
+inline void start_tetrahedron(state& b, corners const& s) {
+  int const t0 = b.add_tri(s.i0, s.i1, s.i2);
+  int const t1 = b.add_tri(s.i0, s.i3, s.i1);
+  int const t2 = b.add_tri(s.i1, s.i3, s.i2);
+  int const t3 = b.add_tri(s.i2, s.i3, s.i0);
   for (int t : {t0, t1, t2, t3})
     for (int e = 0; e < 3; ++e)
-      link(t, b.tris[std::size_t(t)].v[std::size_t(e)],
-           b.tris[std::size_t(t)].v[std::size_t((e + 1) % 3)]);
-  {
-    std::vector<int> rest;
-    for (int i = 0; i < n; ++i)
-      if (i != i0 && i != i1 && i != i2 && i != i3) rest.push_back(i);
-    b.assign(rest, {t0, t1, t2, t3});
-  }
+      link_edge(b, t, b.tris[std::size_t(t)].v[std::size_t(e)],
+                b.tris[std::size_t(t)].v[std::size_t((e + 1) % 3)]);
+  std::vector<int> rest;
+  for (int i = 0; i < int(b.p.size()); ++i)
+    if (i != s.i0 && i != s.i1 && i != s.i2 && i != s.i3) rest.push_back(i);
+  b.assign(rest, {t0, t1, t2, t3});
+}
 
-  // Grow: add the farthest outside point of some triangle until none is left. Each round
-  // removes at least one point from the outside sets, so this ends.
+// ------------------------------------------------------------------------------ growth
+
+/// Lists of one growth round, kept across rounds for their capacity.
+struct round_lists {
   std::vector<int> visible, stack, horizon_from, horizon_to, horizon_nb;
+  std::vector<char> seen; ///< per triangle: visible from the eye
+};
+
+/// The point of t's outside set farthest above its plane (the first on ties).
+inline int farthest_outside(state const& b, tri const& t) {
+  int eye = t.outside[0];
+  for (int i : t.outside)
+    if (b.dist(t, i) > b.dist(t, eye)) eye = i;
+  return eye;
+}
+
+/// The triangles that see the eye: a flood from triangle `from` over the neighbours whose
+/// plane the eye is more than tol above (w.visible, marked in w.seen).
+inline void find_visible(state const& b, int from, int eye, round_lists& w) {
+  w.visible.clear();
+  w.stack.assign(1, from);
+  w.seen.assign(b.tris.size(), 0);
+  w.seen[std::size_t(from)] = 1;
+  while (!w.stack.empty()) {
+    int const u = w.stack.back();
+    w.stack.pop_back();
+    w.visible.push_back(u);
+    for (int nb : b.tris[std::size_t(u)].nb)
+      if (!w.seen[std::size_t(nb)] && b.dist(b.tris[std::size_t(nb)], eye) > b.tol) {
+        w.seen[std::size_t(nb)] = 1;
+        w.stack.push_back(nb);
+      }
+  }
+}
+
+/// The horizon: each edge from a visible triangle to an invisible one, as from -> to and the
+/// invisible triangle across it. False when two of them start at one vertex (rounding made
+/// the visible region not a disc).
+inline bool find_horizon(state const& b, round_lists& w) {
+  std::map<int, std::size_t> by_start;
+  w.horizon_from.clear(), w.horizon_to.clear(), w.horizon_nb.clear();
+  bool simple = true;
+  for (int u : w.visible)
+    for (int e = 0; e < 3; ++e) {
+      tri const& tu = b.tris[std::size_t(u)];
+      int const nb = tu.nb[std::size_t(e)];
+      if (w.seen[std::size_t(nb)]) continue;
+      int const a = tu.v[std::size_t(e)], c = tu.v[std::size_t((e + 1) % 3)];
+      simple = simple && by_start.emplace(a, w.horizon_from.size()).second;
+      w.horizon_from.push_back(a), w.horizon_to.push_back(c), w.horizon_nb.push_back(nb);
+    }
+  return simple;
+}
+
+/// Kills the visible triangles; returns their outside points other than the eye.
+inline std::vector<int> remove_visible(state& b, int eye, round_lists const& w) {
+  std::vector<int> orphans;
+  for (int u : w.visible) {
+    tri& tu = b.tris[std::size_t(u)];
+    tu.alive = false;
+    for (int i : tu.outside)
+      if (i != eye) orphans.push_back(i);
+    tu.outside.clear();
+  }
+  return orphans;
+}
+
+/// One new triangle (a, c, eye) per horizon edge a -> c, linked to the triangle across that
+/// edge and to its neighbours around the cone; returns them in horizon order.
+inline std::vector<int> build_cone(state& b, int eye, round_lists const& w) {
+  std::vector<int> fresh(w.horizon_from.size());
+  std::map<int, int> by_from;
+  for (std::size_t h = 0; h < w.horizon_from.size(); ++h) {
+    int const nt = b.add_tri(w.horizon_from[h], w.horizon_to[h], eye);
+    fresh[h] = nt;
+    by_from[w.horizon_from[h]] = nt;
+    b.tris[std::size_t(nt)].nb[0] = w.horizon_nb[h];
+    tri& g = b.tris[std::size_t(w.horizon_nb[h])];
+    g.nb[std::size_t(edge_of(g, w.horizon_to[h], w.horizon_from[h]))] = nt;
+  }
+  for (std::size_t h = 0; h < w.horizon_from.size(); ++h) {
+    tri& tn = b.tris[std::size_t(fresh[h])];
+    tn.nb[1] = by_from[w.horizon_to[h]]; // edge c -> eye: the triangle starting at c
+    tn.nb[2] = -1;                       // edge eye -> a: set by the triangle ending at a
+  }
+  for (std::size_t h = 0; h < w.horizon_from.size(); ++h) {
+    int const next = by_from[w.horizon_to[h]];
+    b.tris[std::size_t(next)].nb[2] = fresh[h];
+  }
+  return fresh;
+}
+
+/// Adds the farthest outside point of some triangle until none is left. Each round removes
+/// at least one point from the outside sets, so this ends.
+inline void grow(state& b) {
+  round_lists w;
   for (std::size_t scan = 0; scan < b.tris.size(); ++scan) {
     if (!b.tris[scan].alive || b.tris[scan].outside.empty()) continue;
-    Tri& t = b.tris[scan];
-    int eye = t.outside[0];
-    for (int i : t.outside)
-      if (b.dist(t, i) > b.dist(t, eye)) eye = i;
-    // Visible triangles: flood from t over neighbours that see the eye.
-    visible.clear();
-    stack.assign(1, int(scan));
-    std::vector<char> seen(b.tris.size(), 0);
-    seen[scan] = 1;
-    while (!stack.empty()) {
-      int const u = stack.back();
-      stack.pop_back();
-      visible.push_back(u);
-      for (int nb : b.tris[std::size_t(u)].nb)
-        if (!seen[std::size_t(nb)] && b.dist(b.tris[std::size_t(nb)], eye) > b.tol) {
-          seen[std::size_t(nb)] = 1;
-          stack.push_back(nb);
-        }
-    }
-    // Horizon: edges from a visible triangle to an invisible one, as a map start -> edge.
-    std::map<int, std::size_t> by_start;
-    horizon_from.clear(), horizon_to.clear(), horizon_nb.clear();
-    bool simple = true;
-    for (int u : visible)
-      for (int e = 0; e < 3; ++e) {
-        Tri const& tu = b.tris[std::size_t(u)];
-        int const nb = tu.nb[std::size_t(e)];
-        if (seen[std::size_t(nb)]) continue;
-        int const a = tu.v[std::size_t(e)], c = tu.v[std::size_t((e + 1) % 3)];
-        simple = simple && by_start.emplace(a, horizon_from.size()).second;
-        horizon_from.push_back(a), horizon_to.push_back(c), horizon_nb.push_back(nb);
-      }
-    if (!simple) {
+    int const eye = farthest_outside(b, b.tris[scan]);
+    find_visible(b, int(scan), eye, w);
+    if (!find_horizon(b, w)) {
       // Rounding made the visible region not a disc: drop the eye (it is within a hair of
       // the hull) and go on.
       auto& o = b.tris[scan].outside;
@@ -228,82 +309,65 @@ HullBuild<S> detail_hull_builder::run(std::span<GVec3<S> const> in, S tolerance)
       --scan;
       continue;
     }
-    std::vector<int> orphans;
-    for (int u : visible) {
-      Tri& tu = b.tris[std::size_t(u)];
-      tu.alive = false;
-      for (int i : tu.outside)
-        if (i != eye) orphans.push_back(i);
-      tu.outside.clear();
-    }
-    // One new triangle (a, c, eye) per horizon edge a -> c, linked around the cone.
-    std::vector<int> fresh(horizon_from.size());
-    std::map<int, int> by_from;
-    for (std::size_t h = 0; h < horizon_from.size(); ++h) {
-      int const nt = b.add_tri(horizon_from[h], horizon_to[h], eye);
-      fresh[h] = nt;
-      by_from[horizon_from[h]] = nt;
-      b.tris[std::size_t(nt)].nb[0] = horizon_nb[h];
-      Tri& g = b.tris[std::size_t(horizon_nb[h])];
-      g.nb[std::size_t(edge_of(g, horizon_to[h], horizon_from[h]))] = nt;
-    }
-    for (std::size_t h = 0; h < horizon_from.size(); ++h) {
-      Tri& tn = b.tris[std::size_t(fresh[h])];
-      tn.nb[1] = by_from[horizon_to[h]]; // edge c -> eye: the triangle starting at c
-      tn.nb[2] = -1;                     // edge eye -> a: set by the triangle ending at a
-    }
-    for (std::size_t h = 0; h < horizon_from.size(); ++h) {
-      int const next = by_from[horizon_to[h]];
-      b.tris[std::size_t(next)].nb[2] = fresh[h];
-    }
+    std::vector<int> const orphans = remove_visible(b, eye, w);
+    std::vector<int> const fresh = build_cone(b, eye, w);
     b.assign(orphans, fresh);
     scan = std::size_t(-1); // restart the scan: earlier triangles may still hold points
   }
-  finish(b, out.hull);
-  out.hull.tolerance_ = S(b.tol);
-  return out;
 }
 
-template <ScalarReal S>
-void detail_hull_builder::finish(detail_hull_builder& b, GConvexHull<S>& hull) {
-  // Merge each live triangle with the neighbours whose three vertices lie within tol of the
-  // seed triangle's plane (checking against the seed keeps curved surfaces from merging).
-  std::size_t const nt = b.tris.size();
-  std::vector<int> face_of(nt, -1);
+// ---------------------------------------------------------------------- polygon faces
+
+/// The live triangles grouped into faces: face_of[t] (-1 for a dead triangle) and the
+/// triangles of each face.
+struct face_groups {
+  std::vector<int> face_of;
   std::vector<std::vector<int>> groups;
+};
+
+/// Merges each live triangle with the neighbours whose three vertices lie within tol of the
+/// seed triangle's plane (checking against the seed keeps curved surfaces from merging).
+inline face_groups merge_coplanar(state const& b) {
+  std::size_t const nt = b.tris.size();
+  face_groups g{std::vector<int>(nt, -1), {}};
   for (std::size_t s = 0; s < nt; ++s) {
-    if (!b.tris[s].alive || face_of[s] >= 0) continue;
-    int const f = int(groups.size());
-    groups.emplace_back();
+    if (!b.tris[s].alive || g.face_of[s] >= 0) continue;
+    int const f = int(g.groups.size());
+    g.groups.emplace_back();
     std::vector<int> stack{int(s)};
-    face_of[s] = f;
-    Tri const& seed = b.tris[s];
+    g.face_of[s] = f;
+    tri const& seed = b.tris[s];
     while (!stack.empty()) {
       int const u = stack.back();
       stack.pop_back();
-      groups.back().push_back(u);
+      g.groups.back().push_back(u);
       for (int nb : b.tris[std::size_t(u)].nb) {
-        Tri const& tn = b.tris[std::size_t(nb)];
-        if (face_of[std::size_t(nb)] >= 0 || tn.n.dot(seed.n) <= 0) continue;
+        tri const& tn = b.tris[std::size_t(nb)];
+        if (g.face_of[std::size_t(nb)] >= 0 || tn.n.dot(seed.n) <= 0) continue;
         bool flat = true;
         for (int v : tn.v)
           flat = flat && std::abs(b.dist(seed, v)) <= b.tol;
         if (flat) {
-          face_of[std::size_t(nb)] = f;
+          g.face_of[std::size_t(nb)] = f;
           stack.push_back(nb);
         }
       }
     }
   }
-  // Boundary loop of each group: its edges whose neighbour is in another group.
-  std::size_t const nf = groups.size();
+  return g;
+}
+
+/// The boundary loop of each face: the vertices of its edges whose neighbour is in another
+/// face, in order.
+inline std::vector<std::vector<int>> boundary_loops(state const& b, face_groups const& g) {
+  std::size_t const nf = g.groups.size();
   std::vector<std::vector<int>> loops(nf);
   for (std::size_t f = 0; f < nf; ++f) {
     std::map<int, int> next;
-    for (int u : groups[f])
+    for (int u : g.groups[f])
       for (int e = 0; e < 3; ++e) {
-        Tri const& tu = b.tris[std::size_t(u)];
-        if (face_of[std::size_t(tu.nb[std::size_t(e)])] != int(f))
+        tri const& tu = b.tris[std::size_t(u)];
+        if (g.face_of[std::size_t(tu.nb[std::size_t(e)])] != int(f))
           next[tu.v[std::size_t(e)]] = tu.v[std::size_t((e + 1) % 3)];
       }
     int const start = next.begin()->first;
@@ -313,7 +377,12 @@ void detail_hull_builder::finish(detail_hull_builder& b, GConvexHull<S>& hull) {
       v = next[v];
     } while (v != start && loops[f].size() <= next.size());
   }
-  // Drop vertices that lie on only two faces (on a straight edge between them).
+  return loops;
+}
+
+/// Drops from the loops the vertices that lie on only two faces (on a straight edge between
+/// them); returns the points kept, as keys of a map for their hull indices.
+inline std::map<int, std::uint32_t> drop_straight_vertices(std::vector<std::vector<int>>& loops) {
   std::map<int, int> degree;
   for (auto const& l : loops)
     for (int v : l)
@@ -324,106 +393,182 @@ void detail_hull_builder::finish(detail_hull_builder& b, GConvexHull<S>& hull) {
     for (int v : l)
       index.emplace(v, 0);
   }
+  return index;
+}
+
+/// Numbers the kept points in increasing order and stores them as the hull's vertices.
+template <ScalarReal S>
+void emit_vertices(state const& b, std::map<int, std::uint32_t>& index, hull_data<S>& h) {
   std::uint32_t k = 0;
   for (auto& [v, i] : index) {
     i = k++;
-    D3 const& q = b.p[std::size_t(v)];
-    hull.vertices_.push_back(GVec3<S>{S(q.x), S(q.y), S(q.z)});
+    DVec3 const& q = b.p[std::size_t(v)];
+    h.vertices.push_back(GVec3<S>{S(q.x), S(q.y), S(q.z)});
   }
-  // Faces: Newell normal of the loop, offset the mean over its vertices.
+}
+
+/// The unit Newell normal of a loop and the mean of its vertices.
+inline std::pair<DVec3, DVec3> newell_plane(state const& b, std::vector<int> const& l) {
+  DVec3 nn{}, c{};
+  for (std::size_t i = 0; i < l.size(); ++i) {
+    DVec3 const& a = b.p[std::size_t(l[i])];
+    DVec3 const& q = b.p[std::size_t(l[(i + 1) % l.size()])];
+    nn =
+        nn + DVec3{(a.y - q.y) * (a.z + q.z), (a.z - q.z) * (a.x + q.x), (a.x - q.x) * (a.y + q.y)};
+    c = c + a;
+  }
+  nn = nn * (1.0 / nn.length());
+  c = c * (1.0 / double(l.size()));
+  return {nn, c};
+}
+
+/// Stores a face per loop (Newell normal, offset at the vertex mean) and its vertex indices;
+/// returns the face to the left of each directed edge.
+template <ScalarReal S>
+std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t>
+emit_faces(state const& b, std::vector<std::vector<int>> const& loops,
+           std::map<int, std::uint32_t>& index, hull_data<S>& h) {
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> edge_face;
-  for (std::size_t f = 0; f < nf; ++f) {
+  for (std::size_t f = 0; f < loops.size(); ++f) {
     auto const& l = loops[f];
-    D3 nn{0, 0, 0}, c{0, 0, 0};
-    for (std::size_t i = 0; i < l.size(); ++i) {
-      D3 const& a = b.p[std::size_t(l[i])];
-      D3 const& q = b.p[std::size_t(l[(i + 1) % l.size()])];
-      nn = nn + D3{(a.y - q.y) * (a.z + q.z), (a.z - q.z) * (a.x + q.x), (a.x - q.x) * (a.y + q.y)};
-      c = c + a;
-    }
-    nn = nn * (1.0 / nn.length());
-    c = c * (1.0 / double(l.size()));
-    HullFace<S> face{GVec3<S>{S(nn.x), S(nn.y), S(nn.z)}, S(nn.dot(c)),
-                     std::uint32_t(hull.face_vertices_.size()), std::uint32_t(l.size())};
-    hull.faces_.push_back(face);
+    auto const [nn, c] = newell_plane(b, l);
+    GHullFace<S> face{GVec3<S>{S(nn.x), S(nn.y), S(nn.z)}, S(nn.dot(c)),
+                      std::uint32_t(h.face_vertices.size()), std::uint32_t(l.size())};
+    h.faces.push_back(face);
     for (std::size_t i = 0; i < l.size(); ++i) {
       std::uint32_t const a = index[l[i]], q = index[l[(i + 1) % l.size()]];
-      hull.face_vertices_.push_back(a);
+      h.face_vertices.push_back(a);
       edge_face[{a, q}] = std::uint32_t(f);
     }
   }
-  hull.face_neighbors_.resize(hull.face_vertices_.size());
-  for (std::size_t f = 0; f < nf; ++f) {
-    HullFace<S> const& face = hull.faces_[f];
+  return edge_face;
+}
+
+/// The face across each face edge, and the edge list (each edge once, from its lower index).
+template <ScalarReal S>
+void link_faces(std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t>& edge_face,
+                hull_data<S>& h) {
+  h.face_neighbors.resize(h.face_vertices.size());
+  for (std::size_t f = 0; f < h.faces.size(); ++f) {
+    GHullFace<S> const& face = h.faces[f];
     for (std::uint32_t i = 0; i < face.count; ++i) {
-      std::uint32_t const a = hull.face_vertices_[face.first + i];
-      std::uint32_t const q = hull.face_vertices_[face.first + (i + 1) % face.count];
+      std::uint32_t const a = h.face_vertices[face.first + i];
+      std::uint32_t const q = h.face_vertices[face.first + (i + 1) % face.count];
       std::uint32_t const other = edge_face[{q, a}];
-      hull.face_neighbors_[face.first + i] = other;
-      if (a < q) hull.edges_.push_back(HullEdge{a, q, std::uint32_t(f), other});
+      h.face_neighbors[face.first + i] = other;
+      if (a < q) h.edges.push_back(HullEdge{a, q, std::uint32_t(f), other});
     }
   }
 }
 
+/// The finished triangulation as a hull's data: coplanar triangles merged into polygons,
+/// straight-edge vertices dropped, faces and edges linked.
 template <ScalarReal S>
-GMassProperties<S> detail_hull_builder::mass(GConvexHull<S> const& h, S density) {
-  // Tetrahedra (r, a, b, c) with r the vertex centroid and (a, b, c) a fan of each face. For a
-  // tetrahedron at r with edge matrix A = [a-r b-r c-r], the second moment (covariance) about
-  // r is det(A) A C0 A^T with C0 = [[2 1 1] [1 2 1] [1 1 2]] / 120, its volume det(A) / 6 and
-  // its centroid r + (a + b + c - 3r) / 4.
-  if (h.empty()) return {S(0), GVec3<S>{}, GMat3<S>::ZERO};
-  auto const vs = h.vertices();
-  D3 r{0, 0, 0};
-  for (auto const& v : vs)
-    r = r + D3{double(v.x), double(v.y), double(v.z)};
-  r = r * (1.0 / double(vs.size()));
+hull_data<S> polygon_hull(state const& b) {
+  hull_data<S> h;
+  face_groups const groups = merge_coplanar(b);
+  std::vector<std::vector<int>> loops = boundary_loops(b, groups);
+  std::map<int, std::uint32_t> index = drop_straight_vertices(loops);
+  emit_vertices(b, index, h);
+  auto edge_face = emit_faces(b, loops, index, h);
+  link_faces(edge_face, h);
+  h.tolerance = S(b.tol);
+  return h;
+}
+
+/// Quickhull over `in` (GConvexHull<S>::build; tolerance <= 0 picks the default).
+template <ScalarReal S>
+GHullBuild<S> run(std::span<GVec3<S> const> in, S tolerance) {
+  GHullBuild<S> out;
+  state b;
+  corners s{};
+  out.error = load_points(in, tolerance, b);
+  if (out.error == HullError::none) out.error = find_corners(b, s);
+  if (out.error != HullError::none) return out;
+  start_tetrahedron(b, s);
+  grow(b);
+  out.hull = GConvexHull<S>(polygon_hull<S>(b));
+  return out;
+}
+
+// -------------------------------------------------------------------- mass properties
+
+/// Integrals over a hull's solid, relative to the point r: the volume, the first moment and
+/// the covariance (second moment) about r.
+struct moments {
+  DVec3 r;
   double vol = 0;
-  D3 first{0, 0, 0};
+  DVec3 first{};
   double cov[3][3] = {};
+};
+
+/// The moments of the tetrahedra (r, a, b, c) with r the vertex centroid and (a, b, c) a fan
+/// of each face. For a tetrahedron at r with edge matrix A = [a-r b-r c-r], the covariance
+/// about r is det(A) A C0 A^T with C0 = [[2 1 1] [1 2 1] [1 1 2]] / 120, its volume det(A) / 6
+/// and its centroid r + (a + b + c - 3r) / 4.
+template <ScalarReal S>
+moments fan_moments(GConvexHull<S> const& h) {
+  auto const vs = h.vertices();
+  moments m;
+  for (auto const& v : vs)
+    m.r = m.r + DVec3{double(v.x), double(v.y), double(v.z)};
+  m.r = m.r * (1.0 / double(vs.size()));
   auto const at = [&](std::uint32_t i) {
-    return D3{double(vs[i].x), double(vs[i].y), double(vs[i].z)} - r;
+    return DVec3{double(vs[i].x), double(vs[i].y), double(vs[i].z)} - m.r;
   };
   for (std::size_t f = 0; f < h.faces().size(); ++f) {
     auto const fv = h.face_vertices(f);
     for (std::size_t i = 1; i + 1 < fv.size(); ++i) {
-      D3 const a = at(fv[0]), bb = at(fv[i]), c = at(fv[i + 1]);
+      DVec3 const a = at(fv[0]), bb = at(fv[i]), c = at(fv[i + 1]);
       double const det = a.dot(bb.cross(c));
-      vol += det / 6.0;
-      first = first + (a + bb + c) * (det / 24.0);
+      m.vol += det / 6.0;
+      m.first = m.first + (a + bb + c) * (det / 24.0);
       double const A[3][3] = {{a.x, bb.x, c.x}, {a.y, bb.y, c.y}, {a.z, bb.z, c.z}};
       for (int r0 = 0; r0 < 3; ++r0)
         for (int r1 = 0; r1 < 3; ++r1) {
           double sum = 0;
-          for (int m = 0; m < 3; ++m)
+          for (int k = 0; k < 3; ++k)
             for (int l = 0; l < 3; ++l)
-              sum += A[r0][m] * (m == l ? 2.0 : 1.0) * A[r1][l];
-          cov[r0][r1] += det * sum / 120.0;
+              sum += A[r0][k] * (k == l ? 2.0 : 1.0) * A[r1][l];
+          m.cov[r0][r1] += det * sum / 120.0;
         }
     }
   }
-  D3 const cm = first * (1.0 / vol); // relative to r
-  // Covariance about the centre of mass, then inertia = trace(C) E - C, times density.
+  return m;
+}
+
+/// Mass properties of a hull (GConvexHull<S>::mass_properties): the centre of mass from the
+/// moments, the covariance moved there, inertia = trace(C) E - C, times density.
+template <ScalarReal S>
+GMassProperties<S> mass(GConvexHull<S> const& h, S density) {
+  if (h.empty()) return {S(0), GVec3<S>{}, GMat3<S>::ZERO};
+  moments const m = fan_moments(h);
+  DVec3 const cm = m.first * (1.0 / m.vol); // relative to r
   double cc[3][3];
   double const cmv[3] = {cm.x, cm.y, cm.z};
   for (int r0 = 0; r0 < 3; ++r0)
     for (int r1 = 0; r1 < 3; ++r1)
-      cc[r0][r1] = cov[r0][r1] - vol * cmv[r0] * cmv[r1];
+      cc[r0][r1] = m.cov[r0][r1] - m.vol * cmv[r0] * cmv[r1];
   double const tr = cc[0][0] + cc[1][1] + cc[2][2];
   double const rho = double(density);
   auto const I = [&](int r0, int r1) { return S(rho * ((r0 == r1 ? tr : 0.0) - cc[r0][r1])); };
-  D3 const centre = r + cm;
-  return {S(rho * vol), GVec3<S>{S(centre.x), S(centre.y), S(centre.z)},
+  DVec3 const centre = m.r + cm;
+  return {S(rho * m.vol), GVec3<S>{S(centre.x), S(centre.y), S(centre.z)},
           GMat3<S>::from_symmetric(I(0, 0), I(1, 1), I(2, 2), I(0, 1), I(0, 2), I(1, 2))};
 }
 
+} // namespace plume::detail::hull_builder
+
+namespace plume {
+
 template <ScalarReal S>
-HullBuild<S> GConvexHull<S>::build(std::span<Vec const> points, S tolerance) {
-  return detail_hull_builder::run<S>(points, tolerance);
+GHullBuild<S> GConvexHull<S>::build(std::span<Vec const> points, S tolerance) {
+  return detail::hull_builder::run<S>(points, tolerance);
 }
 
 template <ScalarReal S>
 GMassProperties<S> GConvexHull<S>::mass_properties(S density) const noexcept {
-  return detail_hull_builder::mass(*this, density);
+  return detail::hull_builder::mass(*this, density);
 }
 
 } // namespace plume

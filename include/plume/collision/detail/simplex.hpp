@@ -37,7 +37,7 @@ struct simplex_vertex {
 template <Real T>
 struct simplex {
   std::array<simplex_vertex<T>, 3> v{};
-  std::array<mask_t<T>, 3> present{mask_t<T>(false), mask_t<T>(false), mask_t<T>(false)};
+  std::array<mask_t<T>, 3> present{no_lanes<T>(), no_lanes<T>(), no_lanes<T>()};
 };
 
 template <Real T>
@@ -52,7 +52,7 @@ struct simplex_step {
 template <Real T>
 PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_vertex<T> const& w,
                                                 GVec3<T> const& x) noexcept {
-  T z = zero<T>();
+  T zero = plume::zero<T>();
   T eps = epsilon<T>();
   GVec3<T> y0 = x - w.p;
   std::array<GVec3<T>, 3> y{x - s.v[0].p, x - s.v[1].p, x - s.v[2].p};
@@ -60,9 +60,9 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
   // The point {w}: always valid.
   simplex_step<T> best;
   best.v = y0;
-  best.lambda = {one<T>(), z, z, z};
-  best.inside = mask_t<T>(false);
-  mask_t<T> chosen_member[3] = {mask_t<T>(false), mask_t<T>(false), mask_t<T>(false)};
+  best.lambda = {one<T>(), zero, zero, zero};
+  best.inside = no_lanes<T>();
+  mask_t<T> chosen_member[3] = {no_lanes<T>(), no_lanes<T>(), no_lanes<T>()};
   T best_d2 = y0.dot(y0);
 
   auto take = [&](mask_t<T> better, GVec3<T> const& v, std::array<T, 4> const& l,
@@ -80,10 +80,10 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
     GVec3<T> e = y[i] - y0;
     T ee = e.dot(e);
     T num = -y0.dot(e);
-    mask_t<T> ok = s.present[i] & (ee > z) & (num > z) & (num < ee);
+    mask_t<T> ok = s.present[i] & (ee > zero) & (num > zero) & (num < ee);
     T t = num / plume::select(ok, ee, one<T>());
     GVec3<T> v = y0 + e * t;
-    std::array<T, 4> l{one<T>() - t, z, z, z};
+    std::array<T, 4> l{one<T>() - t, zero, zero, zero};
     l[i + 1] = t;
     std::array<bool, 3> m{false, false, false};
     m[i] = true;
@@ -103,12 +103,12 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
     T lw = y[i].cross(y[j]).dot(n) * rn;
     T li = y[j].cross(y0).dot(n) * rn;
     T lj = y0.cross(y[i]).dot(n) * rn;
-    mask_t<T> ok = s.present[i] & s.present[j] & (!flat) & (lw > z) & (li > z) & (lj > z);
+    mask_t<T> ok = s.present[i] & s.present[j] & (!flat) & (lw > zero) & (li > zero) & (lj > zero);
     // v along the face normal n (not the weighted sum of the y's): its direction then comes
     // from the edges alone, accurate even when |v| is tiny next to the coordinates (a ray point
     // a hair off a 1,000 m face), where the weighted sum is all cancellation noise.
     GVec3<T> v = n * (y0.dot(n) * rn);
-    std::array<T, 4> l{lw, z, z, z};
+    std::array<T, 4> l{lw, zero, zero, zero};
     l[i + 1] = li;
     l[j + 1] = lj;
     std::array<bool, 3> m{false, false, false};
@@ -128,14 +128,14 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
     T l2 = -e0.dot(e1.cross(y0)) * rd; // e0 . (e1 x (0 - y0))
     T lw = (one<T>() - l0 - l1) - l2;
     mask_t<T> ok = (s.present[0] & s.present[1]) & (s.present[2] & (!flat)) &
-                   ((l0 > z) & (l1 > z)) & ((l2 > z) & (lw > z));
+                   ((l0 > zero) & (l1 > zero)) & ((l2 > zero) & (lw > zero));
     take(ok, GVec3<T>{}, std::array<T, 4>{lw, l0, l1, l2}, {true, true, true});
     best.inside = ok;
   }
 
   // The next simplex: w, then the chosen old members in slot order.
   best.next.v[0] = w;
-  best.next.present[0] = mask_t<T>(true);
+  best.next.present[0] = all_lanes<T>();
   // Slot 1 takes the first chosen member, slot 2 the second, slot 3 the third.
   mask_t<T> c0 = chosen_member[0], c1 = chosen_member[1], c2 = chosen_member[2];
   auto pick = [](mask_t<T> m, simplex_vertex<T> const& a, simplex_vertex<T> const& b) {
