@@ -272,7 +272,7 @@ TEST_CASE("mass properties: closed forms, slices, hulls, parallel axes", "[colli
 }
 
 PLUME_WIDE_TEST_CASE("wide polytopes and mass properties are lane-exact",
-                        "[collision][hull][lanes]", wide_real_types) {
+                     "[collision][hull][lanes]", wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;
   rng r(8);

@@ -704,7 +704,7 @@ bool same_hit(H const& a, H const& b) {
 }
 
 PLUME_WIDE_TEST_CASE("triangle casts are lane-exact, on shared edges and vertices too",
-                        "[collision][ray][lanes]", wide_real_types) {
+                     "[collision][ray][lanes]", wide_real_types) {
   // The triangle cast takes a branch for a whole batch when any lane has an edge function
   // exactly zero (a ray through an edge or a vertex): that lane is recomputed in double and
   // decided by edge ownership, and the others must come out as if cast alone. Lanes here mix
@@ -790,8 +790,7 @@ PLUME_WIDE_TEST_CASE("triangle casts are lane-exact, on shared edges and vertice
   CHECK(failures == 0);
 }
 
-PLUME_WIDE_TEST_CASE("every ray cast is lane-exact", "[collision][ray][lanes]",
-                        wide_real_types) {
+PLUME_WIDE_TEST_CASE("every ray cast is lane-exact", "[collision][ray][lanes]", wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;
   lane_pool<T> const pool(11);

@@ -117,7 +117,7 @@ TEST_CASE("support points and boxes at a pose", "[collision][shapes]") {
 }
 
 PLUME_WIDE_TEST_CASE("shape methods are lane-exact", "[collision][shapes][lanes]",
-                        wide_real_types) {
+                     wide_real_types) {
   using T = TestType;
   rng r(6);
   check_lanes<T>(
