@@ -11,6 +11,9 @@
 //  - normalize() of a zero or non-finite vector gives NaN components; normalize_or(f) gives
 //    f instead, normalize_or_zero() gives zero; try_normalize() gives {zero, false}.
 //    A length is usable when 1/length is finite and > 0.
+//  - clamp_length* scale v by bound / |v| where its length crosses the bound: right for any
+//    finite v (a squared length that overflows is rescaled first), an infinite component
+//    clamps along the infinite components, NaN in v gives v (detail/clamp_length.hpp).
 //  - angle_between uses atan2(|a x b|, a . b): accurate near 0 and pi, unlike acos of the
 //    normalised dot; 0 if either vector is zero.
 //  - Comparisons are cmpeq/cmpne/cmplt/cmple/cmpgt/cmpge and return GBVec3 masks; `==` is
