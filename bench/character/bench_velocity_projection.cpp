@@ -1,4 +1,4 @@
-// plume_bench_solver: velocity projection and depenetration, scalar against every width.
+// plume_bench_character: velocity projection and depenetration, scalar against every width.
 //
 // Names follow <case>/k<planes>/f32/<implementation>/x<width>; items = projections (or
 // depenetrations). "plume" is the n-step algorithm, "bruteforce" the O(k^3) reference (x1).
