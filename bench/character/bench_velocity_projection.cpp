@@ -1,4 +1,4 @@
-// plume_bench_solver: velocity projection and depenetration, scalar against every width.
+// plume_bench_character: velocity projection and depenetration, scalar against every width.
 //
 // Names follow <case>/k<planes>/f32/<implementation>/x<width>; items = projections (or
 // depenetrations). "plume" is the n-step algorithm, "bruteforce" the O(k^3) reference (x1).
@@ -27,8 +27,8 @@ constexpr int plane_counts[] = {1, 2, 4, 8, 16, 32};
 
 struct problems {
   std::vector<plume::Vec3> v;
-  std::vector<plume::Vec3> n;                       // P * k, problem-major
-  std::vector<plume::Penetration<plume::Vec3>> pen; // P * k
+  std::vector<plume::Vec3> n;           // P * k, problem-major
+  std::vector<plume::Penetration3> pen; // P * k
 };
 
 problems const& data(int k) {
@@ -63,7 +63,7 @@ problems const& data(int k) {
 template <class T>
 struct packed {
   std::vector<plume::GVec3<T>> v, n;
-  std::vector<plume::Penetration<plume::GVec3<T>>> pen;
+  std::vector<plume::GPenetration<plume::GVec3<T>>> pen;
 };
 
 template <class T>

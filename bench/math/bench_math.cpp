@@ -213,6 +213,21 @@ void store_quat(soa& s, std::size_t i, plume::GQuat<T> const& q) {
   plume::store_aligned(s.w + i, q.w);
 }
 
+/// A benchmark of op(v) over the vector stream, named <name>/f32/plume/x<width>.
+template <class T, class Op>
+void register_vec3_stream(std::string const& name, Op op) {
+  constexpr std::size_t L = plume::lanes_v<T>;
+  std::string const full = name + "/f32/plume/x" + std::to_string(L);
+  benchmark::RegisterBenchmark(full.c_str(), [op](benchmark::State& st) {
+    auto& s = sdata();
+    run(st, [&] {
+      for (std::size_t i = 0; i < N; i += L)
+        plume::store_soa_aligned(op(plume::load_soa_aligned<T>(s.v.x + i, s.v.y + i, s.v.z + i)),
+                                 s.out.x + i, s.out.y + i, s.out.z + i);
+    });
+  });
+}
+
 template <class T>
 void register_width() {
   constexpr std::size_t L = plume::lanes_v<T>;
@@ -226,15 +241,8 @@ void register_width() {
                                  s.out.x + i, s.out.y + i, s.out.z + i);
     });
   });
-  benchmark::RegisterBenchmark(("stream_normalize" + w).c_str(), [](benchmark::State& st) {
-    auto& s = sdata();
-    run(st, [&] {
-      for (std::size_t i = 0; i < N; i += L)
-        plume::store_soa_aligned(
-            plume::load_soa_aligned<T>(s.v.x + i, s.v.y + i, s.v.z + i).normalize(), s.out.x + i,
-            s.out.y + i, s.out.z + i);
-    });
-  });
+  register_vec3_stream<T>("stream_normalize", [](plume::GVec3<T> const& v)
+                                                  PLUME_BENCH_INLINE { return v.normalize(); });
   benchmark::RegisterBenchmark(("stream_mat3_vec" + w).c_str(), [](benchmark::State& st) {
     auto& s = sdata();
     // One matrix applied to a stream of vectors (a body's rotation over its vertices).
@@ -253,6 +261,18 @@ void register_width() {
             s.outq, i,
             load_quat<T>(s.q, i).slerp(load_quat<T>(s.r, i), plume::load<T>(s.t.data() + i)));
     });
+  });
+}
+
+/// The clamp_length streams: lengths in [0, 1.7), about half of them longer than 0.8.
+template <class T>
+void register_clamp_width() {
+  register_vec3_stream<T>("stream_clamp_length_max",
+                          [](plume::GVec3<T> const& v) PLUME_BENCH_INLINE {
+                            return v.clamp_length_max(plume::splat<T>(0.8f));
+                          });
+  register_vec3_stream<T>("stream_clamp_length", [](plume::GVec3<T> const& v) PLUME_BENCH_INLINE {
+    return v.clamp_length(plume::splat<T>(0.4f), plume::splat<T>(0.8f));
   });
 }
 
@@ -310,7 +330,10 @@ bool intrinsics_agree() {
 
 int main(int argc, char** argv) {
   register_scalar();
-  plume::bench::for_each_f32_width([]<class T>() { register_width<T>(); });
+  plume::bench::for_each_f32_width([]<class T>() {
+    register_width<T>();
+    register_clamp_width<T>();
+  });
 #if PLUME_HAS_AVX2
   register_intrinsics();
   if (!intrinsics_agree()) return 1;

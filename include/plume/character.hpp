@@ -2,9 +2,20 @@
 // through a set of contact planes, generic over the element type so that one call moves a
 // lane of characters at once. It asks nothing of the world or the contact solver.
 //
-//   project_velocity, project_velocity_bruteforce (solver/character/velocity_projection.hpp)
-//   GPlaneSet3<T>, GPlaneSet2<T>                  (solver/character/plane_set.hpp)
-//   depenetrate, GPenetration<Vec>                (solver/character/depenetration.hpp)
+// Every template over the element type T (or a vector of it) is G<Name>; the plain name is
+// the float form, D<Name> the double form. Configurations' scaled(length_unit) const gives
+// the configuration with every length-valued field multiplied by length_unit.
+//
+//   project_velocity, project_velocity_bruteforce        (solver/character/velocity_projection.hpp)
+//     GVelocityProjectionConfig<S>  VelocityProjectionConfig, DVelocityProjectionConfig
+//     GVelocityProjection<Vec>      VelocityProjection3, VelocityProjection2 (results)
+//   GPlaneSet3<T>, GPlaneSet2<T>  PlaneSet3, PlaneSet2, DPlaneSet3, DPlaneSet2
+//     GPlaneSet<Vec>, GPlaneSetConfig<S>  PlaneSetConfig, DPlaneSetConfig
+//                                                        (solver/character/plane_set.hpp)
+//   depenetrate                                          (solver/character/depenetration.hpp)
+//     GPenetration<Vec>             Penetration3, Penetration2 (input pairs)
+//     GDepenetration<Vec>           Depenetration3, Depenetration2 (results)
+//     GDepenetrationConfig<S>       DepenetrationConfig, DDepenetrationConfig
 #pragma once
 
 #include <plume/solver/character/depenetration.hpp>

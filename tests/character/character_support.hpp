@@ -1,6 +1,7 @@
-// Helpers for the solver tests: the quasi-random directions of the notes, the plane sets of
-// Avian's agreement test, an independent QP oracle (Eigen, enumerating active sets in
-// double), and packing per-lane scalar plane sets into wide ones padded with zero normals.
+// Helpers for the character tests: quasi-random unit directions (plastic- and golden-ratio
+// sequences), the plane sets of Avian's agreement test (+z and 16 tilted normals), an
+// independent QP oracle (Eigen, enumerating active sets in double), and packing per-lane
+// scalar plane sets into wide ones padded with zero normals.
 #pragma once
 
 #include "../math/math_support.hpp"
@@ -15,7 +16,8 @@
 
 namespace plume::test {
 
-/// Unit directions on the sphere from the plastic-number sequence (the notes' generator).
+/// Unit directions on the sphere from the plastic-number (R2) sequence: z and the azimuth step
+/// by 1/p and 1/p^2 (p = 1.3247...) mod 1, evenly spread without randomness.
 struct plastic_directions {
   double i = 0, j = 0;
   static constexpr double plastic = 1.32471795724475;
@@ -40,7 +42,8 @@ struct golden_directions {
   }
 };
 
-/// +Z and the 16 normals of the notes, normalised in double.
+/// +Z and 16 normals around it ((+-2, 0, 1), (0, +-2, 1), (+-1.5, +-1.5, 1), (+-1, +-1.75, 1),
+/// (+-1.75, +-1, 1)), normalised in double: floors, slopes and walls meeting at one point.
 inline std::vector<DVec3> avian_normals_3d() {
   std::vector<DVec3> n = {
       {0, 0, 1},      {2, 0, 1},      {-2, 0, 1},      {0, 2, 1},     {0, -2, 1},    {1.5, 1.5, 1},

@@ -13,7 +13,7 @@ using namespace plume;
 using namespace plume::test;
 
 namespace {
-using P3 = Penetration<Vec3>;
+using P3 = Penetration3;
 } // namespace
 
 TEST_CASE("depenetration: exact answers", "[solver][depenetration]") {
@@ -85,9 +85,9 @@ TEST_CASE("depenetration: rejection, bad input, scaling", "[solver][depenetratio
   CHECK(r.correction.z == 0.2f);
   CHECK(r.converged);
   // In centimetres the 0.6 deep pair is shallow (threshold 50).
-  auto const cm = depenetrate(p, DepenetrationConfig<float>::scaled(100));
+  auto const cm = depenetrate(p, DepenetrationConfig{}.scaled(100));
   CHECK(cm.correction.x == 0.6f);
-  CHECK(DepenetrationConfig<float>::scaled(100).max_error == 1e-4f * 100);
+  CHECK(DepenetrationConfig{}.scaled(100).max_error == 1e-4f * 100);
 }
 
 PLUME_WIDE_TEST_CASE("wide depenetration equals scalar per lane",
@@ -97,7 +97,7 @@ PLUME_WIDE_TEST_CASE("wide depenetration equals scalar per lane",
   rng r(31);
   int failures = 0;
   for (int t = 0; t < 200; ++t) {
-    std::vector<Penetration<GVec3<T>>> wide(std::size_t(1 + t % 7));
+    std::vector<GPenetration<GVec3<T>>> wide(std::size_t(1 + t % 7));
     for (auto& p : wide) {
       p.normal = r.unit3<T>();
       p.depth = r.elem<T>(-0.1, 0.7);
@@ -106,7 +106,7 @@ PLUME_WIDE_TEST_CASE("wide depenetration equals scalar per lane",
       wide.push_back({-wide[0].normal, wide[0].depth});
     auto const res = depenetrate(wide);
     for (std::size_t l = 0; l < lanes_v<T>; ++l) {
-      std::vector<Penetration<GVec3<S>>> one;
+      std::vector<GPenetration<GVec3<S>>> one;
       for (auto const& p : wide)
         one.push_back({lane(p.normal, l), lane(p.depth, l)});
       auto const s = depenetrate(one);
@@ -118,10 +118,9 @@ PLUME_WIDE_TEST_CASE("wide depenetration equals scalar per lane",
   CHECK(failures == 0);
 }
 
-
 TEST_CASE("2D depenetration", "[solver][depenetration][2d]") {
-  std::array<Penetration<Vec2>, 2> const p = {Penetration<Vec2>{{0, 1}, 0.5f - 0.25f},
-                                              Penetration<Vec2>{{1, 0}, 0.125f}};
+  std::array<Penetration2, 2> const p = {Penetration2{{0, 1}, 0.5f - 0.25f},
+                                         Penetration2{{1, 0}, 0.125f}};
   auto const r = depenetrate(p);
   CHECK(r.correction.x == 0.125f);
   CHECK(r.correction.y == 0.25f);
@@ -132,7 +131,7 @@ TEST_CASE("2D depenetration", "[solver][depenetration][2d]") {
 TEST_CASE("plane set: merging, rejection, capacity", "[solver][planes]") {
   Vec3 const v{1, 0, -1};
   SECTION("normals within 5 degrees merge, keeping the one most against v") {
-    PlaneSet3<float> set(v);
+    PlaneSet3 set(v);
     Vec3 const a = Vec3{-1, 0, 0.02f}.normalize(); // 1.1 degrees from -x
     Vec3 const b = Vec3{-1, 0, 0.06f}.normalize(); // 2.3 degrees; more against v (smaller n . v)
     CHECK(set.add(a * 3.0f));                      // any length: normalised
@@ -143,13 +142,13 @@ TEST_CASE("plane set: merging, rejection, capacity", "[solver][planes]") {
     CHECK(set.count() == 2);
   }
   SECTION("just outside 5 degrees: two planes") {
-    PlaneSet3<float> set(v);
+    PlaneSet3 set(v);
     set.add({0, 0, 1});
     set.add({std::sin(0.0885f), 0, std::cos(0.0885f)}); // 5.07 degrees
     CHECK(set.count() == 2);
   }
   SECTION("zero and non-finite normals are rejected") {
-    PlaneSet3<float> set(v);
+    PlaneSet3 set(v);
     CHECK_FALSE(set.add({0, 0, 0}));
     CHECK_FALSE(set.add({std::numeric_limits<float>::quiet_NaN(), 0, 1}));
     CHECK_FALSE(set.add({std::numeric_limits<float>::infinity(), 0, 1}));
@@ -157,9 +156,9 @@ TEST_CASE("plane set: merging, rejection, capacity", "[solver][planes]") {
     CHECK(set.normals().empty());
   }
   SECTION("more planes than max_planes: the least relevant is replaced, overflow reported") {
-    PlaneSetConfig<float> cfg;
+    PlaneSetConfig cfg;
     cfg.max_planes = 3;
-    PlaneSet3<float> set(v, cfg);
+    PlaneSet3 set(v, cfg);
     set.add({0, 1, 0});                 // n . v = 0
     set.add({0, -1, 0});                // 0
     set.add(Vec3{1, 0, 1}.normalize()); // 0 (perpendicular), kept
@@ -171,7 +170,7 @@ TEST_CASE("plane set: merging, rejection, capacity", "[solver][planes]") {
     CHECK_FALSE(set.add(Vec3{0.3f, 0.9f, 0.3f}.normalize())); // n . v = 0: not more relevant
   }
   SECTION("dense nearly parallel planes collapse and projection works on the result") {
-    PlaneSet3<float> set(v);
+    PlaneSet3 set(v);
     for (int i = 0; i < 200; ++i) {
       float const a = 0.0004f * float(i); // 200 normals within 4.6 degrees
       set.add({-std::cos(a), std::sin(a), 0});
@@ -189,10 +188,10 @@ PLUME_WIDE_TEST_CASE("wide plane sets equal scalar ones per lane", "[solver][pla
   using T = TestType;
   using S = scalar_t<T>;
   rng r(8);
-  PlaneSetConfig<S> cfg;
+  GPlaneSetConfig<S> cfg;
   cfg.max_planes = 6;
   GVec3<T> const v = r.vec3<T>(-3, 3);
-  PlaneSet3<T> wide(v, cfg);
+  GPlaneSet3<T> wide(v, cfg);
   std::vector<GVec3<T>> added;
   for (int i = 0; i < 40; ++i) {
     GVec3<T> n = r.unit3<T>();
@@ -202,7 +201,7 @@ PLUME_WIDE_TEST_CASE("wide plane sets equal scalar ones per lane", "[solver][pla
     wide.add(n);
   }
   for (std::size_t l = 0; l < lanes_v<T>; ++l) {
-    PlaneSet3<S> one(lane(v, l), cfg);
+    GPlaneSet3<S> one(lane(v, l), cfg);
     for (auto const& n : added)
       one.add(lane(n, l));
     CHECK(lane(wide.count(), l) == one.count());
@@ -216,7 +215,7 @@ PLUME_WIDE_TEST_CASE("wide plane sets equal scalar ones per lane", "[solver][pla
 
 TEST_CASE("2D plane set and configurations scaled by a length unit", "[solver][planes][2d]") {
   Vec2 const v{1, -1};
-  PlaneSet2<float> set(v);
+  PlaneSet2 set(v);
   CHECK(set.add({0, 2}));                             // floor, normalised
   CHECK(set.add({std::sin(0.05f), std::cos(0.05f)})); // 2.9 degrees: merged
   CHECK(set.add({-1, 0}));                            // wall
@@ -226,9 +225,23 @@ TEST_CASE("2D plane set and configurations scaled by a length unit", "[solver][p
   CHECK(r.velocity.x == 0);
   CHECK(r.velocity.y == 0);
 
-  auto const cm = VelocityProjectionConfig<float>::scaled(100);
+  // scaled() is the configuration it is called on with its lengths multiplied: the
+  // dimensionless fields, defaults or not, stay.
+  CHECK(DepenetrationConfig{}.scaled(100).rejection_threshold == 0.5f * 100);
+  DepenetrationConfig few;
+  few.iterations = 3;
+  few.max_error = 2e-4f;
+  CHECK(few.scaled(100).iterations == 3);
+  CHECK(few.scaled(100).max_error == 2e-4f * 100);
+  CHECK(few.scaled(100).rejection_threshold == 0.5f * 100);
+  VelocityProjectionConfig tight;
+  tight.max_steps = 4;
+  tight.epsilon = 1e-3f;
+  CHECK(tight.scaled(100).max_steps == 4);
+  CHECK(tight.scaled(100).epsilon == 1e-3f * 100);
+  auto const cm = VelocityProjectionConfig{}.scaled(100);
   CHECK(cm.epsilon == 0.005f * 100);
-  CHECK(cm.parallel_epsilon == VelocityProjectionConfig<float>{}.parallel_epsilon);
+  CHECK(cm.parallel_epsilon == VelocityProjectionConfig{}.parallel_epsilon);
   // A 0.3 cm/s component into a wall is below the default tolerance in centimetres only.
   std::vector<Vec3> const wall = {{-1, 0, 0}};
   CHECK(project_velocity(Vec3{0.3f, 1, 0}, wall, cm).velocity.x == 0.3f);

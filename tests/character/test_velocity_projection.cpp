@@ -1,6 +1,6 @@
-// Velocity projection: agreement of the n-step algorithm with brute force (the notes' test),
-// the optimality conditions against an independent QP oracle, named geometric cases, bad
-// input, and lane-exactness of the wide forms.
+// Velocity projection: agreement of the n-step algorithm with brute force (17 normals, 1000
+// directions), the optimality conditions against an independent QP oracle, named geometric
+// cases, bad input, and lane-exactness of the wide forms.
 #include "character_support.hpp"
 
 #include <plume/solver/character/velocity_projection.hpp>
@@ -16,7 +16,7 @@ using namespace plume::test;
 namespace {
 
 template <class S>
-VelocityProjectionConfig<S> default_cfg() {
+GVelocityProjectionConfig<S> default_cfg() {
   return {};
 }
 
@@ -73,7 +73,7 @@ TEMPLATE_TEST_CASE("agreement with brute force: 17 normals, every prefix, 1000 d
       }
     }
   }
-  // The step counts for the full set of 17 (quoted in the closing note of the issue).
+  // The step counts for the full set of 17 (the header quotes their maximum).
   std::printf("n-step steps, 17 normals x 1000 directions (%s):", sizeof(S) == 4 ? "f32" : "f64");
   for (auto const& [steps, count] : histogram)
     std::printf(" %d:%d", steps, count);
@@ -133,7 +133,7 @@ std::vector<DVec3> random_planes(rng& r, DVec3 const& v, std::size_t k) {
 template <class S>
 void check_optimality(std::size_t k, int trials, std::uint64_t seed) {
   rng r(seed);
-  VelocityProjectionConfig<S> cfg;
+  GVelocityProjectionConfig<S> cfg;
   cfg.epsilon = sizeof(S) == 4 ? S(1e-4) : S(1e-9);
   int zero_answers = 0;
   struct {
@@ -204,7 +204,7 @@ TEST_CASE("optimality conditions and the QP oracle, random plane sets", "[solver
 
 TEST_CASE("2D optimality against the QP oracle", "[solver][projection][2d]") {
   rng r(77);
-  VelocityProjectionConfig<double> cfg;
+  DVelocityProjectionConfig cfg;
   cfg.epsilon = 1e-9;
   for (int t = 0; t < 2000; ++t) {
     std::size_t const k = 1 + std::size_t(t % 5);
@@ -389,7 +389,7 @@ TEMPLATE_LIST_TEST_CASE("bad input: empty sets, zero and non-unit normals, tiny 
     }
   }
   SECTION("out of steps: zero velocity, not converged") {
-    VelocityProjectionConfig<S> cfg;
+    GVelocityProjectionConfig<S> cfg;
     cfg.max_steps = 1;
     std::vector<V> const crease = {V{zero<T>(), zero<T>(), one<T>()},
                                    V{-one<T>(), zero<T>(), zero<T>()}};

@@ -36,14 +36,14 @@ int main() {
   // The README's solver example.
   Vec3 const floor_normal{0, 0, 1}, wall_normal{-1, 0, 0};
   Vec3 const velocity{1, 2, -1};
-  PlaneSet3<float> planes(velocity);
+  PlaneSet3 planes(velocity);
   planes.add(floor_normal);
   planes.add(wall_normal);
   auto slide = project_velocity(velocity, planes.normals());
   Vec3xN const crowd(velocity);
   std::vector<Vec3xN> const lane_planes = {Vec3xN(floor_normal), Vec3xN(wall_normal)};
   auto slides = project_velocity(crowd, lane_planes);
-  Penetration<Vec3> const hits[] = {{floor_normal, 0.02f}, {wall_normal, 0.01f}};
+  Penetration3 const hits[] = {{floor_normal, 0.02f}, {wall_normal, 0.01f}};
   Vec3 const fix = depenetrate(hits).correction;
   bool const solver_ok = slide.converged && slide.velocity.x == 0 && slide.velocity.y == 2 &&
                          slide.velocity.z == 0 && lane(slides.velocity, 0).y == 2 &&

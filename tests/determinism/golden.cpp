@@ -181,7 +181,7 @@ std::uint64_t solver_battery() {
     GVec3<T> wv;
     std::vector<GVec3<T>> wn(K);
     std::vector<GVec2<T>> wn2(K);
-    std::vector<Penetration<GVec3<T>>> pen(K);
+    std::vector<GPenetration<GVec3<T>>> pen(K);
     for (std::size_t l = 0; l < L; ++l) {
       wv = with_lane(wv, l, v[g + l]);
       for (std::size_t i = 0; i < K; ++i) {

@@ -157,6 +157,9 @@ PLUME_WIDE_TEST_CASE("every 2D method is lane-exact", "[math][2d][lanes]",
   L2D(a.project_onto(b).x);
   L2D(a.move_towards(b, t).x);
   L2D(a.clamp_length(plume::abs(t), plume::abs(t) * 2).y);
+  L2D(a.clamp_length(plume::abs(t), plume::abs(t) * 2));
+  L2D(a.clamp_length_max(t));
+  L2D(a.clamp_length_min(t));
   L2D(a.lerp(b, t).x);
   L2D(a.min(b).x);
   L2D(a.max(b).y);

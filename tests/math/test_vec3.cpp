@@ -273,3 +273,192 @@ TEMPLATE_LIST_TEST_CASE("operator<< prints every lane", "[math][print]", test::r
     CHECK(printed(v).find("(" + printed(S(lanes_v<T> - 1)) + ", ") != std::string::npos);
   }
 }
+
+// ---------------------------------------------------------------- clamp_length at the range ends
+
+namespace {
+/// The formulas clamp_length* had before the overflow fix: the reference for the bits of every
+/// vector whose squared length is finite.
+template <class V, class T>
+V plain_clamp_length(V const& v, T lo, T hi) {
+  T const len = v.length();
+  T const target = plume::clamp(len, lo, hi);
+  return V::select((len != target) & (len > zero<T>()), v * (target / len), v);
+}
+template <class V, class T>
+V plain_clamp_length_max(V const& v, T hi) {
+  T const len = v.length();
+  return V::select(len > hi, v * (hi / len), v);
+}
+template <class V, class T>
+V plain_clamp_length_min(V const& v, T lo) {
+  T const len = v.length();
+  return V::select((len < lo) & (len > zero<T>()), v * (lo / len), v);
+}
+
+/// Every lane of a and b bitwise equal.
+template <class V>
+bool same_lanes(V const& a, V const& b) {
+  for (std::size_t i = 0; i < lanes_v<typename V::element_type>; ++i)
+    if (!test::same(test::lane_of(a, i), test::lane_of(b, i))) return false;
+  return true;
+}
+
+/// v scaled to length `to` in long double (whose range holds any float or double squared).
+template <class S>
+std::array<long double, 3> scaled_to(GVec3<S> const& v, long double to) {
+  long double const x = v.x, y = v.y, z = v.z;
+  long double const len = std::sqrt(x * x + y * y + z * z);
+  return {x * to / len, y * to / len, z * to / len};
+}
+template <class S>
+long double length_ld(GVec3<S> const& v) {
+  long double const x = v.x, y = v.y, z = v.z;
+  return std::sqrt(x * x + y * y + z * z);
+}
+
+/// Checks r against v clamped to [lo, hi] in long double: v's bits where its length is within
+/// the bounds, else the scaled vector within 8 eps of the bound per component.
+template <class S>
+void check_clamped(GVec3<S> const& v, GVec3<S> const& r, long double lo, long double hi) {
+  long double const len = length_ld(v);
+  INFO("v = " << v << ", |v| = " << double(len) << ", bounds [" << double(lo) << ", " << double(hi)
+              << "], got " << r);
+  if (len >= lo && len <= hi) {
+    CHECK(test::same(r, v));
+    return;
+  }
+  long double const to = len > hi ? hi : lo;
+  auto const want = scaled_to(v, to);
+  long double const tol = 8 * test::eps_v<S> * to;
+  CHECK(std::abs(r.x - want[0]) <= tol);
+  CHECK(std::abs(r.y - want[1]) <= tol);
+  CHECK(std::abs(r.z - want[2]) <= tol);
+  CHECK(std::abs(length_ld(r) - to) <= tol);
+}
+} // namespace
+
+TEMPLATE_LIST_TEST_CASE("clamp_length keeps its bits where the squared length is finite",
+                        "[math][vec3][clamp]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  test::rng r(31);
+  // Lengths from 1e-15 to 1e15 (1e18 for float's largest exponents below the overflow).
+  for (int it = 0; it < 400; ++it) {
+    double const scale = std::pow(10.0, r.uniform(-15, sizeof(S) == 4 ? 18 : 150));
+    GVec3<T> const a = r.vec3<T>(-scale, scale);
+    GVec2<T> const a2{a.x, a.y};
+    GVec4<T> const a4{a.x, a.y, a.z, r.elem<T>(-scale, scale)};
+    T const lo = r.elem<T>(0, scale), hi = lo + r.elem<T>(0, scale);
+    CHECK(same_lanes(a.clamp_length_max(hi), plain_clamp_length_max(a, hi)));
+    CHECK(same_lanes(a.clamp_length_min(lo), plain_clamp_length_min(a, lo)));
+    CHECK(same_lanes(a.clamp_length(lo, hi), plain_clamp_length(a, lo, hi)));
+    CHECK(same_lanes(a2.clamp_length_max(hi), plain_clamp_length_max(a2, hi)));
+    CHECK(same_lanes(a2.clamp_length_min(lo), plain_clamp_length_min(a2, lo)));
+    CHECK(same_lanes(a2.clamp_length(lo, hi), plain_clamp_length(a2, lo, hi)));
+    CHECK(same_lanes(a4.clamp_length(lo, hi), plain_clamp_length(a4, lo, hi)));
+  }
+}
+
+TEMPLATE_TEST_CASE("clamp_length of huge, infinite and NaN vectors", "[math][vec3][clamp]", float,
+                   double) {
+  using S = TestType;
+  using V = GVec3<S>;
+  using L = std::numeric_limits<S>;
+  S const big = L::max(), tiny = L::min(), sub = L::denorm_min(), inf = L::infinity();
+  S const root = std::sqrt(big); // from here on a single component's square overflows
+  // 1e38 is float's "near FLT_MAX"; for double the same fraction of DBL_MAX.
+  S const e38 = sizeof(S) == 4 ? S(1e38) : S(0.3) * big;
+  std::vector<V> const huge = {{big, 0, 0},        {big, big, big},     {-big, big, -big},
+                               {e38, e38, e38},    {e38, -tiny, sub},   {sub, -big, tiny},
+                               {4 * root, 0, 0},   {root, root, -root}, {-e38, 1, -1},
+                               {2 * root, -sub, 0}};
+  std::vector<S> const bounds = {S(0), S(1), S(2.5), root * 1000, e38, big, S(8) * root};
+  for (V const& v : huge) {
+    REQUIRE(v.length_squared() == inf); // every case overflows
+    for (S const hi : bounds) {
+      check_clamped(v, v.clamp_length_max(hi), 0, hi);
+      check_clamped(v, v.clamp_length_min(hi), hi, inf);
+      for (S const lo : bounds)
+        if (lo <= hi) check_clamped(v, v.clamp_length(lo, hi), lo, hi);
+      // GVec2 and GVec4 share the code; their x, y (z) are the 3D case's.
+      GVec3<S> const r2 = GVec3<S>{GVec2<S>{v.x, v.y}.clamp_length_max(hi).x,
+                                   GVec2<S>{v.x, v.y}.clamp_length_max(hi).y, S(0)};
+      if (v.x != 0 || v.y != 0) check_clamped(V{v.x, v.y, 0}, r2, 0, hi);
+      GVec4<S> const r4 = GVec4<S>{v.x, v.y, v.z, S(0)}.clamp_length(0, hi);
+      check_clamped(v, V{r4.x, r4.y, r4.z}, 0, hi);
+      CHECK(r4.w == 0);
+    }
+  }
+  // A finite vector whose squared length overflows but whose length is within the bound comes
+  // back unchanged; clamp_length_min scales one up to a bound beyond it.
+  V const v{4 * root, 0, 0};
+  CHECK(test::same(v.clamp_length_max(big), v));
+  CHECK(test::same(v.clamp_length(root, big), v));
+  check_clamped(v, v.clamp_length_min(S(16) * root), S(16) * root, inf);
+
+  // Infinite components: the limit of huge ones, along the infinite components.
+  CHECK(test::same(V{inf, 0, 0}.clamp_length_max(S(2)), V{2, 0, 0}));
+  CHECK(test::same(V{-inf, S(3), -S(4)}.clamp_length_max(S(2)), V{-2, 0, -S(0)}));
+  V const two_inf = V{-inf, inf, S(5)}.clamp_length_max(S(2));
+  CHECK(two_inf.x == -two_inf.y);
+  CHECK(std::abs(double(two_inf.y) - std::sqrt(2.0)) <= 4 * test::eps_v<S>);
+  CHECK(test::same(two_inf.z, S(0)));
+  CHECK(test::same(V{inf, 0, 0}.clamp_length(S(1), S(2)), V{2, 0, 0}));
+  CHECK(test::same(V{inf, S(1), 0}.clamp_length_min(S(2)), V{inf, S(1), 0})); // already longer
+  CHECK(test::same(V{inf, S(1), 0}.clamp_length_max(inf), V{inf, S(1), 0}));  // no bound
+  // NaN: a NaN component makes the length NaN, which crosses no bound: v comes back.
+  S const nan = L::quiet_NaN();
+  for (V const& v_nan : {V{nan, 0, 0}, V{nan, big, big}, V{inf, nan, 1}}) {
+    CHECK(test::same(v_nan.clamp_length_max(S(1)), v_nan));
+    CHECK(test::same(v_nan.clamp_length_min(S(1)), v_nan));
+    CHECK(test::same(v_nan.clamp_length(S(1), S(2)), v_nan));
+  }
+  // A NaN bound: clamp_length_max / _min return v; clamp_length follows plume::clamp (NaN).
+  for (V const& w : {V{1, 2, 3}, V{big, big, 0}}) {
+    CHECK(test::same(w.clamp_length_max(nan), w));
+    CHECK(test::same(w.clamp_length_min(nan), w));
+    CHECK(w.clamp_length(S(1), nan).is_nan());
+  }
+  // Zero stays zero.
+  CHECK(test::same(V{}.clamp_length_min(S(1)), V{}));
+  CHECK(test::same(V{}.clamp_length(S(1), S(2)), V{}));
+}
+
+TEMPLATE_LIST_TEST_CASE("clamp_length is lane-exact with huge, ordinary and non-finite lanes",
+                        "[math][vec3][clamp][lanes]", test::wide_real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  using L = std::numeric_limits<S>;
+  S const big = L::max(), inf = L::infinity(), nan = L::quiet_NaN();
+  // One lane that needs the rescaled form among ordinary ones, and every other mix.
+  std::vector<GVec3<S>> const cases = {{big, big, 0},      {S(0.3), -S(2), S(1)},
+                                       {S(0), S(0), S(0)}, {inf, S(1), S(0)},
+                                       {nan, S(1), S(1)},  {-big, S(1e-30), L::denorm_min()},
+                                       {S(3), S(4), S(0)}, {S(1e-3), 0, 0}};
+  std::vector<S> const bounds = {S(0.5), S(2.5), big, inf, nan};
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    GVec3<T> v;
+    T hi{}, lo{};
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      v = with_lane(v, i, cases[(k + i * 3) % cases.size()]);
+      hi = plume::with_lane(hi, i, bounds[(k + i) % bounds.size()]);
+      lo = plume::with_lane(lo, i, bounds[(k + i + 2) % bounds.size()] / S(4));
+    }
+    GVec2<T> const v2{v.x, v.y};
+    GVec4<T> const v4{v.x, v.y, v.z, v.x};
+    auto const max3 = v.clamp_length_max(hi), min3 = v.clamp_length_min(lo);
+    auto const cl3 = v.clamp_length(lo, hi);
+    auto const max2 = v2.clamp_length_max(hi), cl4 = v4.clamp_length(lo, hi);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      auto const vi = lane(v, i);
+      S const hi_i = plume::lane(hi, i), lo_i = plume::lane(lo, i);
+      INFO("lane " << i << ": v = " << vi << ", lo = " << lo_i << ", hi = " << hi_i);
+      CHECK(test::same(lane(max3, i), vi.clamp_length_max(hi_i)));
+      CHECK(test::same(lane(min3, i), vi.clamp_length_min(lo_i)));
+      CHECK(test::same(lane(cl3, i), vi.clamp_length(lo_i, hi_i)));
+      CHECK(test::same(lane(max2, i), lane(v2, i).clamp_length_max(hi_i)));
+      CHECK(test::same(lane(cl4, i), lane(v4, i).clamp_length(lo_i, hi_i)));
+    }
+  }
+}

@@ -31,10 +31,8 @@ namespace plume {
 
 #if defined(__SSE2__)
 namespace detail {
-/// The lanes of v in the order Imm (_MM_SHUFFLE). Without AVX as one PSHUFD: SSE2's SHUFPS
-/// overwrites its first operand, so a swizzle of a value still needed costs a copy more. With
-/// AVX the three-operand form has no copy, and g++ folds a broadcast of a loaded value into
-/// VBROADCASTSS from memory, which PSHUFD would prevent.
+/// The lanes of v in the order Imm (_MM_SHUFFLE): one PSHUFD without AVX, SHUFPS with AVX
+/// (the cheaper form for each; docs/performance.md, "GQuat").
 template <int Imm>
 PLUME_INLINE __m128 swizzle_ps(__m128 v) noexcept {
 #if defined(__AVX__)
@@ -286,8 +284,7 @@ struct GQuat {
   /// (two additions deep after the products, where a chain is three). For float it is one
   /// SSE register per quaternion, with the same products and sums per component, so the
   /// bits are those of the generic line, signed zeros included; the lane-exactness tests
-  /// compare the two. (Always inlined: g++ otherwise inlines it into operator* late, after
-  /// splitting the result into four floats stored one by one.)
+  /// compare the two. PLUME_INLINE, as the products below.
   PLUME_INLINE GQuat mul_quat(GQuat const& b) const noexcept {
 #if defined(__SSE2__)
     if constexpr (std::is_same_v<T, float>) {
@@ -413,9 +410,8 @@ private:
   }
 
 public:
-  // The products, slerp and its series path are always inlined: in a loop of their own, g++ 12
-  // called them out of line at f32x8 with the quaternions passed through memory (q * q ran
-  // at 2.2 G/s instead of 3.6 G/s; slerp's trig path stays out of line, cold).
+  // The products, slerp and its series path are PLUME_INLINE so that wide loops do not call
+  // them out of line; slerp's trig path stays out of line, cold (docs/performance.md, "GQuat").
   PLUME_INLINE friend GQuat operator*(GQuat const& a, GQuat const& b) noexcept {
     return a.mul_quat(b);
   }

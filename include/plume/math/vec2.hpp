@@ -9,6 +9,7 @@
 #pragma once
 
 #include <plume/math/bvec2.hpp>
+#include <plume/math/detail/clamp_length.hpp>
 #include <plume/numerics.hpp>
 
 #include <array>
@@ -178,19 +179,15 @@ struct GVec2 {
     mask_t<T> const arrive = (len <= d) | (len <= plume::splat<T>(scalar_type(1e-4)));
     return select(arrive, b, *this + a * (d / len));
   }
-  GVec2 clamp_length(T lo, T hi) const noexcept requires Float<T> {
-    T const len = length();
-    T const target = plume::clamp(len, lo, hi);
-    mask_t<T> const change = (len != target) & (len > plume::zero<T>());
-    return select(change, *this * (target / len), *this);
+  /// The clamp_length family: as GVec3's (right for any finite v, see detail/clamp_length.hpp).
+  PLUME_INLINE GVec2 clamp_length(T lo, T hi) const noexcept requires Float<T> {
+    return detail::clamp_length(*this, lo, hi);
   }
-  GVec2 clamp_length_max(T hi) const noexcept requires Float<T> {
-    T const len = length();
-    return select(len > hi, *this * (hi / len), *this);
+  PLUME_INLINE GVec2 clamp_length_max(T hi) const noexcept requires Float<T> {
+    return detail::clamp_length_max(*this, hi);
   }
-  GVec2 clamp_length_min(T lo) const noexcept requires Float<T> {
-    T const len = length();
-    return select((len < lo) & (len > plume::zero<T>()), *this * (lo / len), *this);
+  PLUME_INLINE GVec2 clamp_length_min(T lo) const noexcept requires Float<T> {
+    return detail::clamp_length_min(*this, lo);
   }
 };
 

@@ -11,6 +11,9 @@
 //  - normalize() of a zero or non-finite vector gives NaN components; normalize_or(f) gives
 //    f instead, normalize_or_zero() gives zero; try_normalize() gives {zero, false}.
 //    A length is usable when 1/length is finite and > 0.
+//  - clamp_length* scale v by bound / |v| where its length crosses the bound: right for any
+//    finite v (a squared length that overflows is rescaled first), an infinite component
+//    clamps along the infinite components, NaN in v gives v (detail/clamp_length.hpp).
 //  - angle_between uses atan2(|a x b|, a . b): accurate near 0 and pi, unlike acos of the
 //    normalised dot; 0 if either vector is zero.
 //  - Comparisons are cmpeq/cmpne/cmplt/cmple/cmpgt/cmpge and return GBVec3 masks; `==` is
@@ -19,6 +22,7 @@
 #pragma once
 
 #include <plume/math/bvec3.hpp>
+#include <plume/math/detail/clamp_length.hpp>
 #include <plume/numerics.hpp>
 
 #include <array>
@@ -245,8 +249,8 @@ struct GVec3 {
   T angle_between(GVec3 const& b) const noexcept requires Float<T> {
     return plume::atan2(cross(b).length(), dot(b));
   }
-  // any_ortho* and clamp_length* are always inlined: g++ 12 called them out of line from a
-  // wide loop of their own (any_orthonormal_vector ran at 3.1 G/s at f32x8, inlined 7.2).
+  // any_ortho* and clamp_length* are PLUME_INLINE: wide loops that call them must not call
+  // out of line (docs/performance.md, "GVec3").
   /// Some vector perpendicular to this, of comparable length (not normalised); zero for
   /// the zero vector.
   PLUME_INLINE GVec3 any_orthogonal_vector() const noexcept requires Float<T> {
@@ -271,20 +275,21 @@ struct GVec3 {
             GVec3{b, sign + y * y * a, -y}};
   }
 
-  /// This with its length clamped to [lo, hi] (0 <= lo <= hi); zero stays zero.
+  /// The clamp_length family (detail/clamp_length.hpp): v scaled by bound / |v| where its
+  /// length crosses the bound, else v; right for any finite v (squared lengths that overflow
+  /// are rescaled by the largest |component|), an infinite component clamps along the infinite
+  /// components, NaN in v gives v. Bounds are lengths, lo <= hi, both >= 0.
+  /// Length clamped to [lo, hi] (NaN bounds give NaN, lo > hi gives hi); zero stays zero.
   PLUME_INLINE GVec3 clamp_length(T lo, T hi) const noexcept requires Float<T> {
-    T const len = length();
-    T const target = plume::clamp(len, lo, hi);
-    mask_t<T> const change = (len != target) & (len > plume::zero<T>());
-    return select(change, *this * (target / len), *this);
+    return detail::clamp_length(*this, lo, hi);
   }
+  /// Length at most hi (NaN hi gives v).
   PLUME_INLINE GVec3 clamp_length_max(T hi) const noexcept requires Float<T> {
-    T const len = length();
-    return select(len > hi, *this * (hi / len), *this);
+    return detail::clamp_length_max(*this, hi);
   }
+  /// Length at least lo (NaN lo gives v); zero stays zero.
   PLUME_INLINE GVec3 clamp_length_min(T lo) const noexcept requires Float<T> {
-    T const len = length();
-    return select((len < lo) & (len > plume::zero<T>()), *this * (lo / len), *this);
+    return detail::clamp_length_min(*this, lo);
   }
 
   /// this + t (b - this) per component (plume::lerp: exact at t = 0).

@@ -198,11 +198,10 @@ struct GVec4 {
     mask_t<T> const arrive = (len <= d) | (len <= plume::splat<T>(scalar_type(1e-4)));
     return select(arrive, b, *this + a * (d / len));
   }
-  GVec4 clamp_length(T lo, T hi) const noexcept requires Float<T> {
-    T const len = length();
-    T const target = plume::clamp(len, lo, hi);
-    mask_t<T> const change = (len != target) & (len > plume::zero<T>());
-    return select(change, *this * (target / len), *this);
+  /// Length clamped to [lo, hi]: as GVec3's (right for any finite v, see
+  /// detail/clamp_length.hpp).
+  PLUME_INLINE GVec4 clamp_length(T lo, T hi) const noexcept requires Float<T> {
+    return detail::clamp_length(*this, lo, hi);
   }
   GVec4 lerp(GVec4 const& b, T t) const noexcept requires Real<T> {
     return {plume::lerp(x, b.x, t), plume::lerp(y, b.y, t), plume::lerp(z, b.z, t),

@@ -8,7 +8,7 @@
 //   keep_if(m, a)     per lane: m ? a : 0    (select(m, a, 0): one AND where masks are
 //                                             float vectors, SSE/AVX)
 //   and_not(m, n)     per lane: m && !n      (one ANDN; `m & !n` costs a compare more on
-//                                             SSE/AVX, where g++ forms !n as n == 0)
+//                                             SSE/AVX)
 //   any(m), all(m), none(m)                   horizontal tests
 //   bitmask(m)        lane i of m in bit i of a uint64_t
 //   mask_cast<T>(m)   a mask of another element type with the same lanes and lane width
@@ -87,10 +87,10 @@ PLUME_INLINE std::uint64_t bitmask(xsimd::batch_bool<E, A> const& m) noexcept {
 
 namespace detail {
 #if defined(__GNUC__) && !defined(__clang__) && defined(__AVX__)
-/// g++ 12 rewrites vblendvps as "m < 0 ? a : b" and, when one mask feeds two blends,
-/// materialises that test with an extra vpcmpgtd per mask (measured: 6 per ray-box slab
-/// test). For a mask that is a full compare result the test is redundant, so the blend is
-/// issued as one instruction g++ does not rewrite. VEX form: registers xmm0-15 ("x").
+/// The blend as one VBLENDVPS/VBLENDVPD that the compiler cannot rewrite into a sign test
+/// plus blend (g++ 12 does, adding a compare per mask: docs/performance.md, "select").
+/// For a mask that is a full compare result the sign test is redundant. VEX form: registers
+/// xmm0-15 ("x").
 template <class E, class R>
 PLUME_INLINE R blendv_vex(R m, R a, R b) noexcept {
   R r;

@@ -16,9 +16,8 @@
 //    (_CMP_NEQ_OQ) and so says NaN != NaN is false, unlike C++ and SSE's cmpneq. The same
 //    exact-arch overloads give the IEEE answer (_CMP_NEQ_UQ: true when unordered);
 //  - speeds up xsimd 8.1's AVX2 mask equality, and with it `!mask` (which xsimd computes as
-//    `mask == false`): xsimd's AVX kernel splits it into two SSE compares and a lane insert
-//    (4 instructions and a cross-lane shuffle on the critical path of every masked loop);
-//    AVX2 compares the 256-bit integers in one instruction;
+//    `mask == false`): AVX2 compares the 256-bit integers in one instruction where xsimd's
+//    AVX kernel uses two SSE compares and a lane insert (docs/performance.md, "masks");
 //  - repairs xsimd 8.1's AVX-512 float negation, computed as `0 - x` (so -(+0) = +0); the
 //    overload flips the sign bit, as the SSE and AVX kernels do.
 #pragma once

@@ -1,8 +1,12 @@
 // plume/solver/character/plane_set.hpp - collects contact normals into the plane set that
 // project_velocity takes: normalised, nearly parallel normals merged, at most a maximum count.
 //
-//   PlaneSet3<T> set(velocity, cfg);   set.add(normal) ...;   set.normals()  (span of GVec3<T>)
-//   PlaneSet2<T> the same in 2D.
+//   GPlaneSet3<T> set(velocity, cfg);   set.add(normal) ...;   set.normals()  (span of GVec3<T>)
+//   GPlaneSet2<T> the same in 2D; PlaneSet3, PlaneSet2 for float (DPlaneSet3, DPlaneSet2).
+//
+// Normals are directions in the frame of the velocity (any length in, unit out); the set
+// has no length unit. Why: project_velocity's cost grows with the plane count, and nearly
+// parallel planes add steps without changing the answer.
 //
 // Rules, per lane (wide sets keep one set per lane; a lane's unused slots are zero normals,
 // which project_velocity ignores):
@@ -30,36 +34,37 @@ namespace plume {
 
 /// Merge rule and capacity of a plane set (dimensionless: no length-unit scaling).
 template <ScalarReal S>
-struct PlaneSetConfig {
+struct GPlaneSetConfig {
   S merge_cos = S(0.99619469809174553); ///< cos 5°: normals closer than this are merged
   std::size_t max_planes = 20;          ///< planes kept per lane
 };
+using PlaneSetConfig = GPlaneSetConfig<float>;
+using DPlaneSetConfig = GPlaneSetConfig<double>;
 
 /// A set of contact planes per lane for velocity `velocity` (see the file comment).
 template <class Vec>
-class PlaneSet {
+class GPlaneSet {
 public:
   using T = typename Vec::element_type;
   using M = mask_t<T>;
   using S = scalar_t<T>;
 
-  explicit PlaneSet(Vec const& velocity, PlaneSetConfig<S> const& cfg = {})
-      : velocity_(velocity), cfg_(cfg), count_(zero<T>()), overflowed_(zero<T>() < zero<T>()) {
+  explicit GPlaneSet(Vec const& velocity, GPlaneSetConfig<S> const& cfg = {})
+      : velocity_(velocity), cfg_(cfg), count_(zero<T>()), overflowed_(no_lanes<T>()) {
     slots_.reserve(cfg.max_planes);
   }
 
   /// Adds `normal` (any length) per lane; returns the lanes where it was kept or merged.
   M add(Vec const& normal) {
-    T const z = zero<T>();
     T const len2 = normal.dot(normal);
     Vec const unit = normal * (one<T>() / plume::sqrt(len2));
-    M const usable = (len2 > z) & unit.is_finite();
+    M const usable = (len2 > zero<T>()) & unit.is_finite();
     Vec const n = Vec::select(usable, unit, Vec{});
     T const nv = n.dot(velocity_);
     T const merge_cos = splat<T>(cfg_.merge_cos);
 
     // Merge into the first slot within the merge angle (unused slots are zero: never).
-    M merged = z < z;
+    M merged = no_lanes<T>();
     for (Vec& slot : slots_) {
       M const near = usable & !merged & (n.dot(slot) >= merge_cos);
       M const replace = near & (nv < slot.dot(velocity_));
@@ -112,21 +117,25 @@ public:
   void clear() noexcept {
     slots_.clear();
     count_ = zero<T>();
-    overflowed_ = zero<T>() < zero<T>();
+    overflowed_ = no_lanes<T>();
   }
 
 private:
   Vec velocity_;
-  PlaneSetConfig<S> cfg_;
+  GPlaneSetConfig<S> cfg_;
   std::vector<Vec> slots_;
   T count_;
   M overflowed_;
 };
 
 template <class T>
-using PlaneSet3 = PlaneSet<GVec3<T>>;
+using GPlaneSet3 = GPlaneSet<GVec3<T>>;
 template <class T>
-using PlaneSet2 = PlaneSet<GVec2<T>>;
+using GPlaneSet2 = GPlaneSet<GVec2<T>>;
+using PlaneSet3 = GPlaneSet3<float>;
+using PlaneSet2 = GPlaneSet2<float>;
+using DPlaneSet3 = GPlaneSet3<double>;
+using DPlaneSet2 = GPlaneSet2<double>;
 
 } // namespace plume
 

@@ -1,15 +1,24 @@
-// plume/solver/character/velocity_projection.hpp - the velocity closest to a desired one that does not
-// move into any of a set of contact planes (the sliding step of move-and-slide).
+// plume/solver/character/velocity_projection.hpp - the velocity closest to a desired one that
+// does not move into any of a set of contact planes (the sliding step of move-and-slide).
 //
 // Problem: given v and plane normals n_1..n_k (pointing out of the obstacles), find
 //     u = argmin |u - v|^2   subject to   n_i . u >= 0 for every i,
 // the projection of v onto the polyhedral cone of allowed velocities. At the optimum
 // u = v + sum_i lambda_i n_i with lambda_i >= 0 and lambda_i (n_i . u) = 0 (lambda_i is the
-// impulse per unit mass plane i applies); u . (u - v) = 0.
+// impulse per unit mass plane i applies); u . (u - v) = 0. Velocities are in the world's
+// velocity units, normals in any frame shared with v (the answer is in that frame).
 //
 //   project_velocity(v, normals [, lambda_out], cfg)     the n-step active-set algorithm
 //   project_velocity_bruteforce(v, normals, cfg)         the O(k^3) reference
-//   both for GVec3<T> and GVec2<T>, T scalar or wide.
+//   both for GVec3<T> and GVec2<T>, T scalar or wide; results GVelocityProjection<Vec>.
+//
+// What the answer satisfies (converged lanes, unit normals): it is feasible within epsilon
+// (n_i . u >= -epsilon for every i), and it is no farther from v than the exact projection
+// plus epsilon (|u - v| <= |u* - v| + epsilon). It is not always near u* itself: a plane
+// violated by less than epsilon counts as satisfied, and in a narrow cone (planes at a small
+// angle) the answer can then lie far from u* (up to about epsilon / sin of the angle).
+// Why: move-and-slide needs a velocity that does not push into contacts and loses as little
+// of the requested motion as possible, at a cost of O(k) per step.
 //
 // The n-step algorithm (after unpairedbracket's "Velocity Projection", the GJK idea on a
 // cone): keep an active set of at most two planes (one in 2D) whose exact projection u is
@@ -18,10 +27,11 @@
 // those planes — the apex, a ray (face), a wedge (crease) or the solid wedge (u = 0) — and
 // repeat until no plane is violated by more than cfg.epsilon. Each step is O(k); the most
 // violated plane is the one with the smallest n . u, the first in the span on ties. Steps
-// seen: at most 4 on the notes' 17-normal test, at most 5 on random contact sets of up to 32
-// planes (bench/solver). Unlike Avian's version, every step tests the Lagrange multipliers of each
-// candidate subset, so a plane that stops helping is dropped and the answer is the exact
-// projection (up to epsilon) whatever the order in which planes become active.
+// seen: at most 4 on +z and the 16 unit normals around it of tests/character (1000
+// directions, every prefix of the set), at most 5 on the random contact sets of up to 32
+// planes of bench/character. Every step tests the Lagrange multipliers of each candidate
+// subset, so a plane that stops helping is dropped whatever the order in which planes become
+// active.
 //
 // Wide use: lane l projects lane l of v against lane l of every normal. Different lanes may
 // have different plane counts: pad with zero normals (a zero normal is never violated and
@@ -61,7 +71,7 @@ namespace plume {
 
 /// Tolerances of project_velocity and project_velocity_bruteforce.
 template <ScalarReal S>
-struct VelocityProjectionConfig {
+struct GVelocityProjectionConfig {
   /// A plane is violated when n . u < -epsilon (velocity units).
   S epsilon = S(0.005);
   /// Creases/corners of planes closer to parallel than this (sin^2 of the angle) are unusable.
@@ -69,24 +79,29 @@ struct VelocityProjectionConfig {
   /// Iteration cap of the n-step algorithm (planes added).
   int max_steps = 10;
 
-  /// The defaults for a world whose length unit is `length_unit` (e.g. 100 for centimetres):
-  /// epsilon scales with it, the dimensionless values do not.
-  static constexpr VelocityProjectionConfig scaled(S length_unit) noexcept {
-    VelocityProjectionConfig c;
+  /// This configuration with every length-valued field (epsilon) multiplied by length_unit,
+  /// e.g. `VelocityProjectionConfig{}.scaled(100)` for centimetres; the dimensionless
+  /// values stay.
+  constexpr GVelocityProjectionConfig scaled(S length_unit) const noexcept {
+    GVelocityProjectionConfig c = *this;
     c.epsilon = c.epsilon * length_unit;
     return c;
   }
 };
+using VelocityProjectionConfig = GVelocityProjectionConfig<float>;
+using DVelocityProjectionConfig = GVelocityProjectionConfig<double>;
 
 /// Result of project_velocity for one velocity per lane.
 template <class Vec>
-struct VelocityProjection {
+struct GVelocityProjection {
   using T = typename Vec::element_type;
   Vec velocity;            ///< the projected velocity u
   T steps;                 ///< planes added (0: v was already allowed); a small whole number
   mask_t<T> converged;     ///< no plane violated by more than epsilon at the returned u
   mask_t<T> invalid_input; ///< v or a normal was not finite (velocity is zero)
 };
+using VelocityProjection3 = GVelocityProjection<GVec3<float>>;
+using VelocityProjection2 = GVelocityProjection<GVec2<float>>;
 
 namespace detail {
 
@@ -111,11 +126,11 @@ PLUME_INLINE mask_t<vp_elem<Vec>> all_finite(Vec const& v, std::span<Vec const> 
 
 /// The smallest n_i . u, its normal and (WithIndex) its index as T: the first index that
 /// attains the minimum; NaN never wins; no plane gives {+inf, -1, zero}.
-///  - Wide: four interleaved running minima (planes i = 0, 1, 2, 3 mod 4) cut the
-///    compare-select dependency chain fourfold; merging them compares indices on ties.
-///  - Scalar: one branch-free pass for the minimum (minss), then the first plane that attains
-///    it (one unpredictable branch instead of one per new minimum). The same rule, so the same
-///    plane, as the wide form.
+///  - Wide: four interleaved running minima (planes i = 0, 1, 2, 3 mod 4), merged comparing
+///    indices on ties: shorter compare-select dependency chains than one running minimum.
+///  - Scalar: one branch-free pass for the minimum, then the first plane that attains it (one
+///    unpredictable branch instead of one per new minimum). The same rule, so the same plane,
+///    as the wide form.
 template <class Vec>
 struct most_violated {
   vp_elem<Vec> s;
@@ -181,8 +196,41 @@ PLUME_INLINE void scatter_multipliers(std::span<T> lambda_out, std::size_t k, ma
 /// num / den >= 0 without the division (den != 0): the signs agree or num is zero.
 template <class T>
 PLUME_INLINE mask_t<T> ratio_nonnegative(T num, T den) noexcept {
-  T const z = zero<T>();
-  return ((den > z) & (num >= z)) | ((den < z) & (num <= z));
+  T const zero = plume::zero<T>();
+  return ((den > zero) & (num >= zero)) | ((den < zero) & (num <= zero));
+}
+
+/// The configuration as element values: -epsilon and parallel_epsilon.
+template <class T>
+struct nstep_tolerances {
+  T neg_eps, par;
+  explicit nstep_tolerances(GVelocityProjectionConfig<scalar_t<T>> const& cfg) noexcept
+      : neg_eps(-splat<T>(cfg.epsilon)), par(splat<T>(cfg.parallel_epsilon)) {}
+};
+
+/// Per lane: the projection u of v on the active set, its planes a, b (m of them: 0, 1, 2; 3
+/// marks the 3D solid wedge, u = 0; in 2D only a is used and m = 2 marks the 2D solid wedge),
+/// the steps taken and, for the multipliers, the active planes' indices ia, ib, ic (-1: none)
+/// and multipliers la, lb, lc.
+template <class Vec>
+struct nstep_state {
+  using T = vp_elem<Vec>;
+  Vec u, a, b;
+  T m, steps;
+  T ia, ib, ic, la, lb, lc;
+  mask_t<T> running, converged;
+};
+
+/// The start of every n-step iteration: lanes where no plane is violated by more than epsilon
+/// at u (worst_s, the smallest n . u) join `converged` and leave `running`. True when no lane
+/// runs any more.
+template <class T>
+PLUME_INLINE bool nstep_settle(mask_t<T>& running, mask_t<T>& converged, T worst_s,
+                               T neg_eps) noexcept {
+  mask_t<T> const ok = !(worst_s < neg_eps);
+  converged = converged | (running & ok);
+  running = running & !ok;
+  return plume::none(running);
 }
 
 } // namespace detail
@@ -191,145 +239,295 @@ PLUME_INLINE mask_t<T> ratio_nonnegative(T num, T den) noexcept {
 
 namespace detail {
 
-/// The 3D n-step algorithm. WithLambda adds the bookkeeping of plane indices and multipliers;
-/// the velocity, steps and masks are the same either way (validity is decided from signs, the
-/// multipliers are only divided out for the output).
-template <bool WithLambda, class T>
-VelocityProjection<GVec3<T>> project3(GVec3<T> const& v, std::span<GVec3<T> const> normals,
-                                      std::span<T> lambda_out,
-                                      VelocityProjectionConfig<scalar_t<T>> const& cfg) noexcept {
+/// The candidate active sets after adding plane c, each with its validity (every optimality
+/// condition on its planes and no violated active plane), its u and |u - v|^2:
+///   J the new plane alone (u1, multiplier l1); JA the crease of c and a (Gram determinant
+///   dea, multipliers pj2 / dea for c and pa2 / dea for a); JB the crease of c and b (deb,
+///   pj3, pb3); JAB the solid wedge, u = 0 (Cramer: det, pj4, pa4, pb4).
+template <class T>
+struct nstep3_candidates {
+  T cc, cv, av, ca, bv, cb; // the dot products the candidates share
+  GVec3<T> u1;
+  T l1, d1;
+  mask_t<T> ok1;
+  GVec3<T> u2, ea; // ea = c x a
+  T aa, d2, dea, pj2, pa2;
+  mask_t<T> ok2;
+  GVec3<T> u3;
+  T bb, d3, deb, pj3, pb3;
+  mask_t<T> ok3;
+  T d4, det, pj4, pa4, pb4;
+  mask_t<T> ok4;
+};
+
+/// J, the new plane alone: multiplier l1 = -cv / cc. Its tests use a . u1 = a . v + l1 (c . a)
+/// (the same for b) and |u1 - v|^2 = l1^2 (c . c): the values of u1's, with a shorter chain.
+template <class T>
+PLUME_INLINE void nstep3_face(nstep3_candidates<T>& k, GVec3<T> const& v, GVec3<T> const& c,
+                              mask_t<T> no_a, mask_t<T> no_b, T neg_eps) noexcept {
+  T const zero = plume::zero<T>();
+  k.l1 = -k.cv / k.cc;
+  k.u1 = v + c * k.l1;
+  k.ok1 = (-k.cv > zero) & (no_a | !(k.av + k.l1 * k.ca < neg_eps)) &
+          (no_b | !(k.bv + k.l1 * k.cb < neg_eps));
+  k.d1 = (k.l1 * k.l1) * k.cc;
+}
+
+/// JA, the crease of the new plane c and the active plane a.
+template <class T>
+PLUME_INLINE void nstep3_crease_a(nstep3_candidates<T>& k, GVec3<T> const& v, GVec3<T> const& c,
+                                  nstep_state<GVec3<T>> const& s, mask_t<T> has_a, mask_t<T> no_b,
+                                  nstep_tolerances<T> const& tol) noexcept {
+  T const zero = plume::zero<T>();
+  k.aa = s.a.dot(s.a);
+  k.ea = c.cross(s.a);
+  k.dea = k.ea.dot(k.ea);
+  T const s2 = v.dot(k.ea) / k.dea;
+  k.u2 = k.ea * s2;
+  k.pj2 = k.ca * k.av - k.aa * k.cv, k.pa2 = k.ca * k.cv - k.cc * k.av;
+  k.ok2 = has_a & (k.dea > tol.par * (k.cc * k.aa)) & (k.pj2 >= zero) & (k.pa2 >= zero) &
+          (no_b | !(s2 * s.b.dot(k.ea) < tol.neg_eps));
+  k.d2 = (k.u2 - v).length_squared();
+}
+
+/// JB, the crease of c and the active plane b, and JAB, the solid wedge of c, a and b:
+/// -v = lj c + la a + lb b with all three >= 0. Needs nstep3_crease_a's aa and ea.
+template <class T>
+PLUME_INLINE void nstep3_crease_b_and_wedge(nstep3_candidates<T>& k, GVec3<T> const& v,
+                                            GVec3<T> const& c, nstep_state<GVec3<T>> const& s,
+                                            mask_t<T> has_b,
+                                            nstep_tolerances<T> const& tol) noexcept {
   using V = GVec3<T>;
+  T const zero = plume::zero<T>();
+  k.bb = s.b.dot(s.b);
+  V const eb = c.cross(s.b);
+  k.deb = eb.dot(eb);
+  T const s3 = v.dot(eb) / k.deb;
+  k.u3 = eb * s3;
+  k.pj3 = k.cb * k.bv - k.bb * k.cv, k.pb3 = k.cb * k.cv - k.cc * k.bv;
+  k.ok3 = has_b & (k.deb > tol.par * (k.cc * k.bb)) & (k.pj3 >= zero) & (k.pb3 >= zero) &
+          !(s3 * s.a.dot(eb) < tol.neg_eps);
+  k.d3 = (k.u3 - v).length_squared();
+
+  V const axb = s.a.cross(s.b), bxc = s.b.cross(c);
+  k.det = c.dot(axb);
+  k.pj4 = -v.dot(axb), k.pa4 = -v.dot(bxc), k.pb4 = -v.dot(k.ea);
+  k.ok4 = has_b & (k.det * k.det > tol.par * ((k.cc * k.aa) * k.bb)) &
+          ratio_nonnegative(k.pj4, k.det) & ratio_nonnegative(k.pa4, k.det) &
+          ratio_nonnegative(k.pb4, k.det);
+}
+
+/// Every candidate for adding plane c to the active sets of s. No lane has an active plane
+/// in the first step, none has two in the second: the candidates that need them are skipped
+/// when no running lane can take them (they are invalid in every lane then, so every result
+/// is the same either way).
+template <class T>
+PLUME_INLINE nstep3_candidates<T> nstep3_candidates_for(GVec3<T> const& v, GVec3<T> const& c,
+                                                        nstep_state<GVec3<T>> const& s,
+                                                        nstep_tolerances<T> const& tol) noexcept {
   using M = mask_t<T>;
-  T const neg_eps = -splat<T>(cfg.epsilon);
-  T const par = splat<T>(cfg.parallel_epsilon);
-  T const z = zero<T>();
-  T const one_plane = splat<T>(1), two_planes = splat<T>(2);
+  T const zero = plume::zero<T>(), one_plane = splat<T>(1), two_planes = splat<T>(2);
+  M const no_a = s.m < one_plane, no_b = s.m < two_planes;
+  M const has_a = s.m >= one_plane, has_b = s.m >= two_planes;
+  nstep3_candidates<T> k;
+  k.cc = c.dot(c), k.cv = c.dot(v);
+  k.av = s.a.dot(v), k.ca = c.dot(s.a), k.bv = s.b.dot(v), k.cb = c.dot(s.b);
+  nstep3_face(k, v, c, no_a, no_b, tol.neg_eps);
+  k.ok2 = k.ok3 = k.ok4 = no_lanes<T>();
+  k.u2 = k.u3 = k.ea = GVec3<T>{};
+  k.d2 = k.d3 = k.aa = k.bb = zero;
+  k.dea = k.deb = k.det = one_plane;
+  k.pj2 = k.pa2 = k.pj3 = k.pb3 = k.pj4 = k.pa4 = k.pb4 = zero;
+  if (plume::any(s.running & has_a)) nstep3_crease_a(k, v, c, s, has_a, no_b, tol);
+  if (plume::any(s.running & has_b)) nstep3_crease_b_and_wedge(k, v, c, s, has_b, tol);
+  k.d4 = v.length_squared();
+  return k;
+}
+
+/// The valid candidate nearest to v (all valid ones are optimal up to epsilon; the order J,
+/// JA, JB, JAB decides exact ties): sel2 (JA), sel3 (JB), take4 (JAB), else J where found.
+template <class T>
+struct nstep3_choice {
+  mask_t<T> take4, found, sel2, sel3;
+};
+template <class T>
+PLUME_INLINE nstep3_choice<T> nstep3_choose(nstep3_candidates<T> const& k) noexcept {
+  using M = mask_t<T>;
+  T best = plume::select(k.ok1, k.d1, infinity<T>());
+  M const take2 = k.ok2 & (k.d2 < best);
+  best = plume::select(take2, k.d2, best);
+  M const take3 = k.ok3 & (k.d3 < best);
+  best = plume::select(take3, k.d3, best);
+  M const take4 = k.ok4 & (k.d4 < best);
+  M const found = k.ok1 | k.ok2 | k.ok3 | k.ok4;
+  M const sel2 = take2 & !take3 & !take4;
+  M const sel3 = take3 & !take4;
+  return {take4, found, sel2, sel3};
+}
+
+/// The new state of the running lanes:
+///   J {c} m = 1;  JA {a, c} m = 2;  JB {c, b} m = 2;  JAB m = 3 (u = 0, finished);
+///   none found: u = 0, finished, not converged.
+template <bool WithLambda, class T>
+PLUME_INLINE void nstep3_advance(nstep_state<GVec3<T>>& s, nstep3_candidates<T> const& k,
+                                 nstep3_choice<T> const& ch, GVec3<T> const& c,
+                                 T plane_index) noexcept {
+  using V = GVec3<T>;
+  T const zero = plume::zero<T>(), one_plane = splat<T>(1), two_planes = splat<T>(2);
   T const none_index = splat<T>(-1);
+  V nu = V::select(ch.found & !ch.take4, k.u1, V{});
+  nu = V::select(ch.sel2, k.u2, nu);
+  nu = V::select(ch.sel3, k.u3, nu);
+  s.u = V::select(s.running, nu, s.u);
+  s.a = V::select(s.running & !ch.sel2, c, s.a);
+  s.b = V::select(s.running, V::select(ch.sel2, c, V::select(ch.sel3, s.b, V{})), s.b);
+  T const nm = plume::select(ch.sel2 | ch.sel3, two_planes, one_plane);
+  s.m = plume::select(s.running, plume::select(ch.take4, splat<T>(3), nm), s.m);
+  s.steps = plume::select(s.running, s.steps + one_plane, s.steps);
+  if constexpr (WithLambda) {
+    // Slots: J (c); JA (a, c); JB (c, b); JAB (c, a, b).
+    T const j = plane_index;
+    T nia = plume::select(ch.sel2, s.ia, j);
+    T nib = plume::select(ch.sel2, j, plume::select(ch.sel3, s.ib, none_index));
+    T nla = plume::select(ch.sel2, k.pa2 / k.dea, plume::select(ch.sel3, k.pj3 / k.deb, k.l1));
+    T nlb = plume::select(ch.sel2, k.pj2 / k.dea, plume::select(ch.sel3, k.pb3 / k.deb, zero));
+    nib = plume::select(ch.take4, s.ia, nib);
+    T const nic = plume::select(ch.take4, s.ib, none_index);
+    nla = plume::select(ch.take4, k.pj4 / k.det, nla);
+    nlb = plume::select(ch.take4, k.pa4 / k.det, nlb);
+    T const nlc = plume::select(ch.take4, k.pb4 / k.det, zero);
+    s.ia = plume::select(s.running, nia, s.ia);
+    s.ib = plume::select(s.running, nib, s.ib);
+    s.ic = plume::select(s.running, nic, s.ic);
+    s.la = plume::select(s.running, nla, s.la);
+    s.lb = plume::select(s.running, nlb, s.lb);
+    s.lc = plume::select(s.running, nlc, s.lc);
+  }
+  // The solid wedge is the exact answer; no valid candidate is a degenerate stop.
+  s.converged = s.converged | (s.running & ch.take4);
+  s.running = s.running & ch.found & !ch.take4;
+}
 
-  M const finite = detail::all_finite(v, normals);
-  // Active set: m planes (0, 1, 2) with normals a, b; m = 3 marks the solid wedge (u = 0).
-  // With multipliers: indices ia, ib, ic and multipliers la, lb, lc of the active planes.
-  V u = V::select(finite, v, V{});
-  V a{}, b{};
-  T m = z, steps = z;
-  [[maybe_unused]] T ia = none_index, ib = none_index, ic = none_index, la = z, lb = z, lc = z;
-  M running = finite;
-  M converged = z < z; // all false
+/// One step of the 3D n-step algorithm: plane c (index `plane_index`) joins the active sets.
+template <bool WithLambda, class T>
+PLUME_INLINE void nstep_add_plane(nstep_state<GVec3<T>>& s, GVec3<T> const& v, GVec3<T> const& c,
+                                  T plane_index, nstep_tolerances<T> const& tol) noexcept {
+  nstep3_candidates<T> const k = nstep3_candidates_for(v, c, s, tol);
+  nstep3_advance<WithLambda>(s, k, nstep3_choose(k), c, plane_index);
+}
+
+// ================================================================================== 2D n-step
+
+/// The candidates after adding plane c: J, the new plane alone (multiplier -cv / cc), and JA,
+/// both planes: u = 0 when -v = lj c + la a with both >= 0 (Cramer: det, pj2, pa2). JA is
+/// skipped when no running lane has a plane yet (it would be invalid in every lane).
+template <class T>
+struct nstep2_candidates {
+  T cc, cv;
+  GVec2<T> u1;
+  T d1;
+  mask_t<T> ok1;
+  T d2, det, pj2, pa2;
+  mask_t<T> ok2;
+};
+template <class T>
+PLUME_INLINE nstep2_candidates<T> nstep2_candidates_for(GVec2<T> const& v, GVec2<T> const& c,
+                                                        nstep_state<GVec2<T>> const& s,
+                                                        nstep_tolerances<T> const& tol) noexcept {
+  using M = mask_t<T>;
+  T const zero = plume::zero<T>(), one_plane = splat<T>(1);
+  M const no_a = s.m < one_plane, has_a = s.m >= one_plane;
+  nstep2_candidates<T> k;
+  k.cc = c.dot(c), k.cv = c.dot(v);
+  k.u1 = v + c * (-k.cv / k.cc);
+  k.ok1 = (-k.cv > zero) & (no_a | !(s.a.dot(k.u1) < tol.neg_eps));
+  k.d1 = (k.u1 - v).length_squared();
+  k.ok2 = no_lanes<T>();
+  k.det = one_plane, k.pj2 = zero, k.pa2 = zero;
+  if (plume::any(s.running & has_a)) {
+    T const aa = s.a.dot(s.a);
+    k.det = c.perp_dot(s.a);
+    k.pj2 = -v.perp_dot(s.a), k.pa2 = -c.perp_dot(v);
+    k.ok2 = has_a & (k.det * k.det > tol.par * (k.cc * aa)) & ratio_nonnegative(k.pj2, k.det) &
+            ratio_nonnegative(k.pa2, k.det);
+  }
+  k.d2 = v.length_squared();
+  return k;
+}
+
+/// The nearer valid candidate (J on exact ties) and the new state of the running lanes:
+///   J: {c}, m = 1.  JA: {a, c}, m = 2, u = 0, finished.  None: u = 0, not converged.
+template <bool WithLambda, class T>
+PLUME_INLINE void nstep2_advance(nstep_state<GVec2<T>>& s, nstep2_candidates<T> const& k,
+                                 GVec2<T> const& c, T plane_index) noexcept {
+  using V = GVec2<T>;
+  using M = mask_t<T>;
+  T const zero = plume::zero<T>(), one_plane = splat<T>(1), none_index = splat<T>(-1);
+  M const no1 = !k.ok1;
+  M const take2 = k.ok2 & (no1 | (k.d2 < k.d1));
+  M const take1 = k.ok1 & !take2;
+  M const found = k.ok1 | k.ok2;
+  s.u = V::select(s.running, V::select(take1, k.u1, V{}), s.u);
+  s.a = V::select(s.running & take1, c, s.a);
+  s.m = plume::select(s.running, plume::select(take2, splat<T>(2), one_plane), s.m);
+  s.steps = plume::select(s.running, s.steps + one_plane, s.steps);
+  if constexpr (WithLambda) {
+    s.ib = plume::select(s.running, plume::select(take2, plane_index, none_index), s.ib);
+    s.ia = plume::select(s.running & take1, plane_index, s.ia);
+    s.lb = plume::select(s.running, plume::select(take2, k.pj2 / k.det, zero), s.lb);
+    s.la = plume::select(s.running, plume::select(take2, k.pa2 / k.det, -k.cv / k.cc), s.la);
+  }
+  s.converged = s.converged | (s.running & take2);
+  s.running = s.running & found & !take2;
+}
+
+/// One step of the 2D n-step algorithm: plane c (index `plane_index`) joins the active set.
+template <bool WithLambda, class T>
+PLUME_INLINE void nstep_add_plane(nstep_state<GVec2<T>>& s, GVec2<T> const& v, GVec2<T> const& c,
+                                  T plane_index, nstep_tolerances<T> const& tol) noexcept {
+  nstep2_advance<WithLambda>(s, nstep2_candidates_for(v, c, s, tol), c, plane_index);
+}
+
+// ============================================================================ the n-step loop
+
+/// The n-step algorithm in 3D (active sets of up to two planes) and 2D (one plane; two active
+/// planes give u = 0, the 2D solid wedge). WithLambda adds the bookkeeping of plane indices
+/// and multipliers; the velocity, steps and masks are the same either way (validity is
+/// decided from signs, the multipliers are only divided out for the output).
+template <bool WithLambda, class Vec>
+GVelocityProjection<Vec>
+nstep_project(Vec const& v, std::span<Vec const> normals, std::span<vp_elem<Vec>> lambda_out,
+              GVelocityProjectionConfig<scalar_t<vp_elem<Vec>>> const& cfg) noexcept {
+  using T = vp_elem<Vec>;
+  nstep_tolerances<T> const tol(cfg);
+  T const zero = plume::zero<T>(), none_index = splat<T>(-1);
+  mask_t<T> const finite = detail::all_finite(v, normals);
+  nstep_state<Vec> s{.u = Vec::select(finite, v, Vec{}),
+                     .a = Vec{},
+                     .b = Vec{},
+                     .m = zero,
+                     .steps = zero,
+                     .ia = none_index,
+                     .ib = none_index,
+                     .ic = none_index,
+                     .la = zero,
+                     .lb = zero,
+                     .lc = zero,
+                     .running = finite,
+                     .converged = no_lanes<T>()};
   for (int step = 0;; ++step) {
-    auto const worst = detail::find_most_violated<WithLambda, V>(u, normals);
-    M const ok = !(worst.s < neg_eps);
-    converged = converged | (running & ok);
-    running = running & !ok;
-    if (plume::none(running) || step == cfg.max_steps) break;
-
-    V const& c = worst.normal;
-    M const no_a = m < one_plane, no_b = m < two_planes;
-    M const has_a = m >= one_plane, has_b = m >= two_planes;
-    T const cc = c.dot(c), cv = c.dot(v);
-    T const av = a.dot(v), ca = c.dot(a), bv = b.dot(v), cb = c.dot(b);
-    // Candidate J, the new plane alone: multiplier l1 = -cv / cc. Its tests use
-    // a . u1 = a . v + l1 (c . a) (and the same for b), |u1 - v|^2 = l1^2 (c . c): the same
-    // values as from u1, with a shorter dependency chain.
-    T const l1 = -cv / cc;
-    V const u1 = v + c * l1;
-    M const ok1 =
-        (-cv > z) & (no_a | !(av + l1 * ca < neg_eps)) & (no_b | !(bv + l1 * cb < neg_eps));
-    T const d1 = (l1 * l1) * cc;
-
-    // The other candidates need one or two active planes. No lane has them in the first step,
-    // none has two in the second: skip what no running lane can take (the skipped
-    // candidates are invalid in every lane, so every result is the same either way).
-    M ok2 = z < z, ok3 = z < z, ok4 = z < z;
-    V u2{}, u3{}, ea{};
-    T d2 = z, d3 = z, aa = z;
-    [[maybe_unused]] T dea = one_plane, pj2 = z, pa2 = z, deb = one_plane, pj3 = z, pb3 = z;
-    [[maybe_unused]] T det = one_plane, pj4 = z, pa4 = z, pb4 = z;
-    if (plume::any(running & has_a)) {
-      // Candidate JA, the crease of the new plane and a (Gram determinant dea = |c x a|^2):
-      // multipliers pj2 / dea (new) and pa2 / dea (a).
-      aa = a.dot(a);
-      ea = c.cross(a);
-      dea = ea.dot(ea);
-      T const s2 = v.dot(ea) / dea;
-      u2 = ea * s2;
-      pj2 = ca * av - aa * cv, pa2 = ca * cv - cc * av;
-      ok2 = has_a & (dea > par * (cc * aa)) & (pj2 >= z) & (pa2 >= z) &
-            (no_b | !(s2 * b.dot(ea) < neg_eps));
-      d2 = (u2 - v).length_squared();
-    }
-    if (plume::any(running & has_b)) { // implies the block above ran
-      // Candidate JB, the crease of the new plane and b.
-      T const bb = b.dot(b);
-      V const eb = c.cross(b);
-      deb = eb.dot(eb);
-      T const s3 = v.dot(eb) / deb;
-      u3 = eb * s3;
-      pj3 = cb * bv - bb * cv, pb3 = cb * cv - cc * bv;
-      ok3 = has_b & (deb > par * (cc * bb)) & (pj3 >= z) & (pb3 >= z) & !(s3 * a.dot(eb) < neg_eps);
-      d3 = (u3 - v).length_squared();
-
-      // Candidate JAB, the solid wedge: -v = lj c + la a + lb b with all three >= 0
-      // (Cramer: numerators over det = c . (a x b)); u = 0.
-      V const axb = a.cross(b), bxc = b.cross(c);
-      det = c.dot(axb);
-      pj4 = -v.dot(axb), pa4 = -v.dot(bxc), pb4 = -v.dot(ea);
-      ok4 = has_b & (det * det > par * ((cc * aa) * bb)) & ratio_nonnegative(pj4, det) &
-            ratio_nonnegative(pa4, det) & ratio_nonnegative(pb4, det);
-    }
-    T const d4 = v.length_squared();
-
-    // The valid candidate nearest to v (all valid ones are optimal up to epsilon; the order
-    // J, JA, JB, JAB decides exact ties).
-    T best = plume::select(ok1, d1, infinity<T>());
-    M const take2 = ok2 & (d2 < best);
-    best = plume::select(take2, d2, best);
-    M const take3 = ok3 & (d3 < best);
-    best = plume::select(take3, d3, best);
-    M const take4 = ok4 & (d4 < best);
-    M const found = ok1 | ok2 | ok3 | ok4;
-    M const sel2 = take2 & !take3 & !take4;
-    M const sel3 = take3 & !take4;
-
-    // New state of the running lanes:
-    //   J {c} m = 1;  JA {a, c} m = 2;  JB {c, b} m = 2;  JAB m = 3 (u = 0, finished);
-    //   none: u = 0, finished, not converged.
-    V nu = V::select(found & !take4, u1, V{});
-    nu = V::select(sel2, u2, nu);
-    nu = V::select(sel3, u3, nu);
-    u = V::select(running, nu, u);
-    a = V::select(running & !sel2, c, a);
-    b = V::select(running, V::select(sel2, c, V::select(sel3, b, V{})), b);
-    T nm = plume::select(sel2 | sel3, two_planes, one_plane);
-    m = plume::select(running, plume::select(take4, splat<T>(3), nm), m);
-    steps = plume::select(running, steps + one_plane, steps);
-    if constexpr (WithLambda) {
-      // Slots: J (c); JA (a, c); JB (c, b); JAB (c, a, b).
-      T const j = worst.index;
-      T nia = plume::select(sel2, ia, j);
-      T nib = plume::select(sel2, j, plume::select(sel3, ib, none_index));
-      T nla = plume::select(sel2, pa2 / dea, plume::select(sel3, pj3 / deb, -cv / cc));
-      T nlb = plume::select(sel2, pj2 / dea, plume::select(sel3, pb3 / deb, z));
-      nib = plume::select(take4, ia, nib);
-      T const nic = plume::select(take4, ib, none_index);
-      nla = plume::select(take4, pj4 / det, nla);
-      nlb = plume::select(take4, pa4 / det, nlb);
-      T const nlc = plume::select(take4, pb4 / det, z);
-      ia = plume::select(running, nia, ia);
-      ib = plume::select(running, nib, ib);
-      ic = plume::select(running, nic, ic);
-      la = plume::select(running, nla, la);
-      lb = plume::select(running, nlb, lb);
-      lc = plume::select(running, nlc, lc);
-    }
-    // The solid wedge is the exact answer; no valid candidate is a degenerate stop.
-    converged = converged | (running & take4);
-    running = running & found & !take4;
+    auto const worst = detail::find_most_violated<WithLambda, Vec>(s.u, normals);
+    if (nstep_settle(s.running, s.converged, worst.s, tol.neg_eps) || step == cfg.max_steps) break;
+    nstep_add_plane<WithLambda>(s, v, worst.normal, worst.index, tol);
   }
   // Lanes still running ran out of steps: fall back to the apex (always allowed).
-  u = V::select(running, V{}, u);
-  if constexpr (WithLambda)
-    scatter_multipliers<T, 3>(lambda_out, normals.size(), converged, {ia, ib, ic}, {la, lb, lc});
-  return {u, steps, converged, !finite};
+  s.u = Vec::select(s.running, Vec{}, s.u);
+  if constexpr (WithLambda && Vec::dim == 3)
+    scatter_multipliers<T, 3>(lambda_out, normals.size(), s.converged, {s.ia, s.ib, s.ic},
+                              {s.la, s.lb, s.lc});
+  else if constexpr (WithLambda)
+    scatter_multipliers<T, 2>(lambda_out, normals.size(), s.converged, {s.ia, s.ib}, {s.la, s.lb});
+  return {s.u, s.steps, s.converged, !finite};
 }
 
 } // namespace detail
@@ -338,117 +536,38 @@ VelocityProjection<GVec3<T>> project3(GVec3<T> const& v, std::span<GVec3<T> cons
 /// file comment). lambda_out must have normals.size() entries and receives the multiplier of
 /// each plane (0 for inactive planes, invalid and unconverged lanes).
 template <Real T>
-VelocityProjection<GVec3<T>>
+GVelocityProjection<GVec3<T>>
 project_velocity(GVec3<T> const& v, std::type_identity_t<std::span<GVec3<T> const>> normals,
                  std::type_identity_t<std::span<T>> lambda_out,
-                 VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+                 GVelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
   assert(lambda_out.size() >= normals.size());
-  return detail::project3<true, T>(v, normals, lambda_out, cfg);
+  return detail::nstep_project<true, GVec3<T>>(v, normals, lambda_out, cfg);
 }
 
 /// project_velocity without the multipliers.
 template <Real T>
-VelocityProjection<GVec3<T>>
+GVelocityProjection<GVec3<T>>
 project_velocity(GVec3<T> const& v, std::type_identity_t<std::span<GVec3<T> const>> normals,
-                 VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
-  return detail::project3<false, T>(v, normals, std::span<T>{}, cfg);
+                 GVelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+  return detail::nstep_project<false, GVec3<T>>(v, normals, std::span<T>{}, cfg);
 }
-
-// ================================================================================== 2D n-step
-
-namespace detail {
-
-/// The 2D n-step algorithm: the active set holds at most one plane; two active planes give
-/// u = 0 (the 2D solid wedge).
-template <bool WithLambda, class T>
-VelocityProjection<GVec2<T>> project2(GVec2<T> const& v, std::span<GVec2<T> const> normals,
-                                      std::span<T> lambda_out,
-                                      VelocityProjectionConfig<scalar_t<T>> const& cfg) noexcept {
-  using V = GVec2<T>;
-  using M = mask_t<T>;
-  T const neg_eps = -splat<T>(cfg.epsilon);
-  T const par = splat<T>(cfg.parallel_epsilon);
-  T const z = zero<T>();
-  T const one_plane = splat<T>(1);
-  T const none_index = splat<T>(-1);
-
-  M const finite = detail::all_finite(v, normals);
-  V u = V::select(finite, v, V{});
-  V a{};
-  T m = z, steps = z;
-  [[maybe_unused]] T ia = none_index, ib = none_index, la = z, lb = z;
-  M running = finite;
-  M converged = z < z;
-  for (int step = 0;; ++step) {
-    auto const worst = detail::find_most_violated<WithLambda, V>(u, normals);
-    M const ok = !(worst.s < neg_eps);
-    converged = converged | (running & ok);
-    running = running & !ok;
-    if (plume::none(running) || step == cfg.max_steps) break;
-
-    V const& c = worst.normal;
-    M const no_a = m < one_plane, has_a = m >= one_plane;
-    T const cc = c.dot(c), cv = c.dot(v);
-    // Candidate J, the new plane alone: multiplier -cv / cc.
-    V const u1 = v + c * (-cv / cc);
-    M const ok1 = (-cv > z) & (no_a | !(a.dot(u1) < neg_eps));
-    T const d1 = (u1 - v).length_squared();
-    // Candidate JA, both planes: u = 0 when -v = lj c + la a with both >= 0 (Cramer).
-    // Skipped when no running lane has a plane yet (it would be invalid in every lane).
-    M ok2 = z < z;
-    [[maybe_unused]] T det = one_plane, pj2 = z, pa2 = z;
-    if (plume::any(running & has_a)) {
-      T const aa = a.dot(a);
-      det = c.perp_dot(a);
-      pj2 = -v.perp_dot(a), pa2 = -c.perp_dot(v);
-      ok2 = has_a & (det * det > par * (cc * aa)) & ratio_nonnegative(pj2, det) &
-            ratio_nonnegative(pa2, det);
-    }
-    T const d2 = v.length_squared();
-
-    M const no1 = !ok1;
-    M const take2 = ok2 & (no1 | (d2 < d1));
-    M const take1 = ok1 & !take2;
-    M const found = ok1 | ok2;
-
-    // J: {c}, m = 1.  JA: {a, c}, m = 2, u = 0, finished.  None: u = 0, not converged.
-    u = V::select(running, V::select(take1, u1, V{}), u);
-    a = V::select(running & take1, c, a);
-    m = plume::select(running, plume::select(take2, splat<T>(2), one_plane), m);
-    steps = plume::select(running, steps + one_plane, steps);
-    if constexpr (WithLambda) {
-      ib = plume::select(running, plume::select(take2, worst.index, none_index), ib);
-      ia = plume::select(running & take1, worst.index, ia);
-      lb = plume::select(running, plume::select(take2, pj2 / det, z), lb);
-      la = plume::select(running, plume::select(take2, pa2 / det, -cv / cc), la);
-    }
-    converged = converged | (running & take2);
-    running = running & found & !take2;
-  }
-  u = V::select(running, V{}, u);
-  if constexpr (WithLambda)
-    scatter_multipliers<T, 2>(lambda_out, normals.size(), converged, {ia, ib}, {la, lb});
-  return {u, steps, converged, !finite};
-}
-
-} // namespace detail
 
 /// 2D form of project_velocity with multipliers (lambda_out: normals.size() entries).
 template <Real T>
-VelocityProjection<GVec2<T>>
+GVelocityProjection<GVec2<T>>
 project_velocity(GVec2<T> const& v, std::type_identity_t<std::span<GVec2<T> const>> normals,
                  std::type_identity_t<std::span<T>> lambda_out,
-                 VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+                 GVelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
   assert(lambda_out.size() >= normals.size());
-  return detail::project2<true, T>(v, normals, lambda_out, cfg);
+  return detail::nstep_project<true, GVec2<T>>(v, normals, lambda_out, cfg);
 }
 
 /// project_velocity (2D) without the multipliers.
 template <Real T>
-VelocityProjection<GVec2<T>>
+GVelocityProjection<GVec2<T>>
 project_velocity(GVec2<T> const& v, std::type_identity_t<std::span<GVec2<T> const>> normals,
-                 VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
-  return detail::project2<false, T>(v, normals, std::span<T>{}, cfg);
+                 GVelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+  return detail::nstep_project<false, GVec2<T>>(v, normals, std::span<T>{}, cfg);
 }
 
 // ================================================================================ brute force
@@ -459,7 +578,7 @@ template <class Vec>
 PLUME_INLINE mask_t<vp_elem<Vec>> allowed(Vec const& u, std::span<Vec const> normals,
                                           vp_elem<Vec> neg_eps) noexcept {
   using T = vp_elem<Vec>;
-  mask_t<T> ok = !(zero<T>() < zero<T>()); // all true
+  mask_t<T> ok = all_lanes<T>();
   for (Vec const& n : normals)
     ok = ok & !(n.dot(u) < neg_eps);
   return ok;
@@ -488,10 +607,10 @@ PLUME_INLINE void nearest_allowed_face(Vec const& v, std::span<Vec const> normal
 /// e (v . e) / |e|^2, e = n_i x n_j; else zero. Same conventions as project_velocity; the
 /// result carries no step count (steps = 0) and converged is true for finite lanes.
 template <Real T>
-VelocityProjection<GVec3<T>>
+GVelocityProjection<GVec3<T>>
 project_velocity_bruteforce(GVec3<T> const& v,
                             std::type_identity_t<std::span<GVec3<T> const>> normals,
-                            VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+                            GVelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
   using V = GVec3<T>;
   using M = mask_t<T>;
   T const neg_eps = -splat<T>(cfg.epsilon);
@@ -519,10 +638,10 @@ project_velocity_bruteforce(GVec3<T> const& v,
 
 /// 2D brute force: v, else the nearest allowed face projection, else zero.
 template <Real T>
-VelocityProjection<GVec2<T>>
+GVelocityProjection<GVec2<T>>
 project_velocity_bruteforce(GVec2<T> const& v,
                             std::type_identity_t<std::span<GVec2<T> const>> normals,
-                            VelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
+                            GVelocityProjectionConfig<scalar_t<T>> const& cfg = {}) noexcept {
   using V = GVec2<T>;
   using M = mask_t<T>;
   T const neg_eps = -splat<T>(cfg.epsilon);
