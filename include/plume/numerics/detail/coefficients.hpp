@@ -48,6 +48,8 @@ struct math_constants<float> {
   static constexpr float exp_clamp_lo = -110.0f, exp_clamp_hi = 100.0f; // beyond: 0 / inf
   static constexpr float exp2_clamp_lo = -160.0f, exp2_clamp_hi = 140.0f;
   static constexpr float expm1_clamp_lo = -30.0f; // below: -1
+  // pow: |y log2|x|| beyond which 2^(y log2|x|) over/underflows whatever its low word
+  static constexpr float pow_dw_limit = 256.0f;
   // |x| below these: e^x and 2^x are normal numbers, n = round(x log2 e) in [-124, 127].
   static constexpr float exp_fast_limit = 86.0f, exp2_fast_limit = 124.0f;
   static constexpr float subnormal_scale = 16777216.0f; // 2^24
@@ -117,6 +119,7 @@ struct math_constants<double> {
   static constexpr double exp_clamp_lo = -760.0, exp_clamp_hi = 720.0;
   static constexpr double exp2_clamp_lo = -1100.0, exp2_clamp_hi = 1040.0;
   static constexpr double expm1_clamp_lo = -50.0;
+  static constexpr double pow_dw_limit = 2048.0;
   static constexpr double exp_fast_limit = 708.0, exp2_fast_limit = 1020.0;
   static constexpr double subnormal_scale = 18014398509481984.0; // 2^54
   static constexpr double subnormal_scale_log2 = 54.0;
