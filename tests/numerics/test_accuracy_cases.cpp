@@ -28,6 +28,12 @@ void pow_case(S x, S y) {
   check_case("pow", x, y, plume::pow(x, y), mp(mpfr_pow, x, y));
 }
 
+template <class S>
+void atan2_case(S y, S x) {
+  test::mpfr_oracle mp;
+  check_case("atan2", y, x, plume::atan2(y, x), mp(mpfr_atan2, y, x));
+}
+
 } // namespace
 
 TEST_CASE("pow near 1 with a huge exponent and a result in range", "[numerics][accuracy]") {
@@ -38,4 +44,14 @@ TEST_CASE("pow near 1 with a huge exponent and a result in range", "[numerics][a
   pow_case(1.000000001, 3e11);
   pow_case(1.00002f, -4e6f);
   pow_case(0.99999, 5e7);
+}
+
+TEST_CASE("atan2 of a tiny numerator over a moderate denominator", "[numerics][accuracy]") {
+  // The exact product behind the quotient's low word underflowed: 4,620 ulp, 571 ulp and
+  // 1.2e7 ulp.
+  atan2_case(0x1.77p-138f, 0x1.c5f2e8p-13f);
+  atan2_case(3.1415926e-41f, 3.3333333e-9f);
+  atan2_case(3.14159265e-315, 7.7777777777777e-20);
+  atan2_case(-0x1.77p-138f, 0x1.c5f2e8p-13f);
+  atan2_case(0x1.5p-1030, 0x1.3p-9);
 }
