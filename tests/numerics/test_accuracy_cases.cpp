@@ -46,6 +46,16 @@ TEST_CASE("pow near 1 with a huge exponent and a result in range", "[numerics][a
   pow_case(0.99999, 5e7);
 }
 
+TEST_CASE("pow of a negative base to an odd integer in [2^(p-1), 2^p)", "[numerics][accuracy]") {
+  // Such y were taken for even (every float from 2^(p-1) up is an integer, but not every
+  // one is even): the result had the wrong sign.
+  pow_case(-0x1.ffff8p-1f, -9081007.0f);
+  pow_case(-0x1.8p-148f, -9343241.0f);
+  pow_case(-1.0000001f, 8388609.0f);
+  pow_case(-0x1.fffffffffffffp-1, 4503599627370497.0);
+  pow_case(-1.5, 6755399441055745.0);
+}
+
 TEST_CASE("atan2 of a tiny numerator over a moderate denominator", "[numerics][accuracy]") {
   // The exact product behind the quotient's low word underflowed: 4,620 ulp, 571 ulp and
   // 1.2e7 ulp.

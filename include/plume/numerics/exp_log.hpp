@@ -302,9 +302,10 @@ PLUME_INLINE T pow(T x, T y) noexcept {
   // Signs and NaNs from a negative base.
   T const ty = plume::trunc(y);
   auto const y_int = ty == y; // true for +-inf and |y| >= 2^p too (even integers)
+  // Odd: y/2 (exact) is not an integer. That holds up to 2^p, beyond the 2^(p-1) from which
+  // every float is an integer, and is false for +-inf and every |y| >= 2^p.
   T const hy = y * half<T>();
-  auto const y_odd =
-      y_int & (plume::abs(y) < detail::integral_threshold<T>()) & (plume::trunc(hy) != hy);
+  auto const y_odd = y_int & (plume::trunc(hy) != hy);
   r = plume::select(plume::is_sign_negative(x) & y_odd, -r, r);
   r = plume::select((x < zero<T>()) & plume::is_finite(x) & !y_int, nan<T>(), r);
   // Overrides that hold even for NaN.
