@@ -180,6 +180,7 @@ void register_plume_width() {
   PLUME_BENCH_PLUME_UNARY(cos, T, angles);
   PLUME_BENCH_PLUME_UNARY(tan, T, angles);
   PLUME_BENCH_PLUME_UNARY(asin, T, unit);
+  PLUME_BENCH_PLUME_UNARY(acos, T, unit);
   PLUME_BENCH_PLUME_BINARY(atan2, T, coords, coords);
   PLUME_BENCH_PLUME_UNARY(exp, T, exps);
   PLUME_BENCH_PLUME_UNARY(log, T, positive);
@@ -205,6 +206,7 @@ void register_xsimd_width() {
   PLUME_BENCH_XSIMD_UNARY(cos, T, angles);
   PLUME_BENCH_XSIMD_UNARY(tan, T, angles);
   PLUME_BENCH_XSIMD_UNARY(asin, T, unit);
+  PLUME_BENCH_XSIMD_UNARY(acos, T, unit);
   PLUME_BENCH_XSIMD_BINARY(atan2, T, coords, coords);
   PLUME_BENCH_XSIMD_UNARY(exp, T, exps);
   PLUME_BENCH_XSIMD_UNARY(log, T, positive);
@@ -242,6 +244,7 @@ void register_xsimd_width() {
   PLUME_BENCH_SLEEF_U35_UNARY(cos, T, Sleef_cos##F##_u35, angles);                                 \
   PLUME_BENCH_SLEEF_U35_UNARY(tan, T, Sleef_tan##F##_u35, angles);                                 \
   PLUME_BENCH_SLEEF_U35_UNARY(asin, T, Sleef_asin##F##_u35, unit);                                 \
+  PLUME_BENCH_SLEEF_U35_UNARY(acos, T, Sleef_acos##F##_u35, unit);                                 \
   PLUME_BENCH_SLEEF_U35_BINARY(atan2, T, Sleef_atan2##F##_u35, coords, coords);                    \
   PLUME_BENCH_SLEEF_U35_UNARY(log, T, Sleef_log##F##_u35, positive)
 #define PLUME_BENCH_SLEEF_ALL(T, F, D4)                                                            \
@@ -249,6 +252,7 @@ void register_xsimd_width() {
   PLUME_BENCH_SLEEF_UNARY(cos, T, Sleef_cos##F##_u10, angles);                                     \
   PLUME_BENCH_SLEEF_UNARY(tan, T, Sleef_tan##F##_u10, angles);                                     \
   PLUME_BENCH_SLEEF_UNARY(asin, T, Sleef_asin##F##_u10, unit);                                     \
+  PLUME_BENCH_SLEEF_UNARY(acos, T, Sleef_acos##F##_u10, unit);                                     \
   PLUME_BENCH_SLEEF_BINARY(atan2, T, Sleef_atan2##F##_u10, coords, coords);                        \
   PLUME_BENCH_SLEEF_UNARY(exp, T, Sleef_exp##F##_u10, exps);                                       \
   PLUME_BENCH_SLEEF_UNARY(log, T, Sleef_log##F##_u10, positive);                                   \
@@ -262,6 +266,7 @@ void register_peers_scalar() {
   register_std_unary<S>("cos", angles, [](S v) { return std::cos(v); });
   register_std_unary<S>("tan", angles, [](S v) { return std::tan(v); });
   register_std_unary<S>("asin", unit, [](S v) { return std::asin(v); });
+  register_std_unary<S>("acos", unit, [](S v) { return std::acos(v); });
   register_std_binary<S>("atan2", coords, coords, [](S a, S b) { return std::atan2(a, b); });
   register_std_unary<S>("exp", exps, [](S v) { return std::exp(v); });
   register_std_unary<S>("log", positive, [](S v) { return std::log(v); });

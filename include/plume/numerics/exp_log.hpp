@@ -280,16 +280,19 @@ PLUME_INLINE T log1p(T x) noexcept {
 template <Float T>
 PLUME_INLINE T pow(T x, T y) noexcept {
   using S = scalar_t<T>;
+  using C = detail::math_constants<S>;
   T const ax = plume::abs(x);
   auto const finite_pos = (ax > zero<T>()) & (ax < infinity<T>());
   detail::dw<T> l = detail::log2_dw(plume::select(finite_pos, ax, one<T>()));
   // log2 of 0 and inf as plain values (lo = 0).
   l.hi = plume::select(finite_pos, l.hi, plume::select(ax == zero<T>(), neg_infinity<T>(), ax));
   l.lo = plume::select(finite_pos, l.lo, zero<T>());
-  // t = y * log2|x| in double-word; when y or l.hi is huge the lo part is dropped (the
-  // result over/underflows anyway).
-  T const big = splat<T>(S(1e6));
-  auto const tame = (plume::abs(y) < big) & (plume::abs(l.hi) < big);
+  // t = y * log2|x| in double-word wherever the result can be in range, which is where
+  // |y log2|x|| < pow_dw_limit however large y is (x near 1: pow(1.00001, 1e7) needs the low
+  // word as much as pow(2, 100) does). Beyond, the result over/underflows and y * l.hi alone
+  // decides. The exact product cannot overflow there: |log2|x|| >= ~2^-p for x != 1, so
+  // |y| < pow_dw_limit 2^p (x = 1 is replaced below).
+  auto const tame = plume::abs(y * l.hi) < splat<T>(C::pow_dw_limit);
   detail::dw<T> const yl =
       detail::two_prod(plume::select(tame, y, zero<T>()), plume::select(tame, l.hi, zero<T>()));
   T const t_hi = plume::select(tame, yl.hi, y * l.hi);
@@ -299,9 +302,10 @@ PLUME_INLINE T pow(T x, T y) noexcept {
   // Signs and NaNs from a negative base.
   T const ty = plume::trunc(y);
   auto const y_int = ty == y; // true for +-inf and |y| >= 2^p too (even integers)
+  // Odd: y/2 (exact) is not an integer. That holds up to 2^p, beyond the 2^(p-1) from which
+  // every float is an integer, and is false for +-inf and every |y| >= 2^p.
   T const hy = y * half<T>();
-  auto const y_odd =
-      y_int & (plume::abs(y) < detail::integral_threshold<T>()) & (plume::trunc(hy) != hy);
+  auto const y_odd = y_int & (plume::trunc(hy) != hy);
   r = plume::select(plume::is_sign_negative(x) & y_odd, -r, r);
   r = plume::select((x < zero<T>()) & plume::is_finite(x) & !y_int, nan<T>(), r);
   // Overrides that hold even for NaN.

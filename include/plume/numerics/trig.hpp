@@ -195,6 +195,30 @@ PLUME_INLINE T atan_nonneg(T a, T a_lo) noexcept {
   return v.hi + (v.lo + u.lo);
 }
 
+/// (num - r den) / den, the low word of r = num / den, for 0 <= num <= den, den finite and
+/// non-zero (garbage otherwise, which atan2 replaces). num and den are scaled by 2^k,
+/// k = bias + 1 - den's biased exponent (bias for a subnormal den), which puts den in
+/// [2^(2-p), 8): exact, as num 2^k <= den 2^k, unless num 2^k is subnormal - and the low
+/// word is 0 where num 2^k < atan2_num_min.
+template <Float T>
+PLUME_INLINE T atan2_quotient_lo(T num, T den, T r) noexcept {
+  using S = scalar_t<T>;
+  using C = math_constants<S>;
+  using B = bits_t<T>;
+  using U = scalar_t<B>;
+  // den's biased exponent field as a float value (den >= 0: no sign bit)
+  T const eb = from_bits<T>((plume::to_bits(den) >> C::mant_bits) |
+                            splat<B>(static_cast<U>(C::two_p_bits))) -
+               splat<T>(C::two_p);
+  T const k =
+      plume::select(eb < one<T>(), splat<T>(S(C::exp_bias)), splat<T>(S(C::exp_bias + 1)) - eb);
+  T const scale = pow2_int(k);
+  T const n2 = num * scale, d2 = den * scale;
+  dw<T> const pr = two_prod(r, d2);
+  T const lo = ((n2 - pr.hi) - pr.lo) / d2;
+  return plume::select(n2 >= splat<T>(C::atan2_num_min), lo, zero<T>());
+}
+
 } // namespace detail
 
 /// sin(x) and cos(x) together, for the cost of about one of them.
@@ -313,12 +337,21 @@ PLUME_INLINE T atan2(T y, T x) noexcept {
   T r = num / den; // in [0, 1], with its rounding error as r_lo; 0/0 and inf/inf patched:
   detail::dw<T> const pr = detail::two_prod(r, den);
   T r_lo = ((num - pr.hi) - pr.lo) / den;
+  // r den = pr.hi + pr.lo exactly needs num >= atan2_num_min (no partial product of Dekker's
+  // underflows) and den <= atan2_den_max (its split does not overflow). Other lanes (tiny
+  // num, huge den, zeros, inf, NaN) take the general path: the same low word from num and
+  // den scaled by one power of two, 2^k, that brings den to [2^(2-p), 8) - exact, and with
+  // it the product, wherever the scaled num is at least atan2_num_min; below, r is under
+  // 2^-79 (float) or 2^-916 (double), atan(r) rounds as r does, and the low word is dropped.
+  // Where both paths apply they give the same low word, so no lane depends on another.
+  auto const safe = (num >= splat<T>(C::atan2_num_min)) & (den <= splat<T>(C::atan2_den_max));
+  if (!plume::all(safe)) [[unlikely]]
+    r_lo = plume::select(safe, r_lo, detail::atan2_quotient_lo(num, den, r));
   auto const degenerate =
       ((ax == zero<T>()) & (ay == zero<T>())) | plume::is_infinite(ax) | plume::is_infinite(ay);
   r = plume::select((ax == zero<T>()) & (ay == zero<T>()), zero<T>(), r);
   r = plume::select(plume::is_infinite(ax) & plume::is_infinite(ay), one<T>(), r);
-  r_lo =
-      plume::select(degenerate | (den < splat<T>(1e-30)) | (den > splat<T>(1e30)), zero<T>(), r_lo);
+  r_lo = plume::select(degenerate, zero<T>(), r_lo);
   T const t = detail::atan_nonneg(r, r_lo);
   // The angle is k pi/2 +- t: t (k = 0), pi/2 - t (steep), pi/2 + t (steep, x < 0),
   // pi - t (x < 0). k pi/2 is carried as hi + lo and t is added to the low word first, so

@@ -39,6 +39,9 @@ struct math_constants<float> {
   static constexpr float pio4_hi = 7.85398185253e-1f, pio4_lo = -2.18556941434e-8f;
   static constexpr float pi_hi = 3.14159274101f, pi_lo = -8.74227765735e-8f;
   static constexpr float tan_3pi_8 = 2.41421356237f, tan_pi_8 = 0.414213562373f;
+  // atan2: Dekker's product r den (r = num / den <= 1) is exact for num >= 2^(emin + p + 1),
+  // and den's split (times split_factor) cannot overflow below atan2_den_max
+  static constexpr float atan2_num_min = 0x1p-101f, atan2_den_max = 0x1p114f;
   static constexpr float ln2_hi = 6.93145751953e-1f,
                          ln2_lo = 1.42860676533e-6f; // n*hi exact, |n| < 2^8
   static constexpr float log2e = 1.44269502163f, log2e_lo = 1.92596303350e-8f;
@@ -48,6 +51,8 @@ struct math_constants<float> {
   static constexpr float exp_clamp_lo = -110.0f, exp_clamp_hi = 100.0f; // beyond: 0 / inf
   static constexpr float exp2_clamp_lo = -160.0f, exp2_clamp_hi = 140.0f;
   static constexpr float expm1_clamp_lo = -30.0f; // below: -1
+  // pow: |y log2|x|| beyond which 2^(y log2|x|) over/underflows whatever its low word
+  static constexpr float pow_dw_limit = 256.0f;
   // |x| below these: e^x and 2^x are normal numbers, n = round(x log2 e) in [-124, 127].
   static constexpr float exp_fast_limit = 86.0f, exp2_fast_limit = 124.0f;
   static constexpr float subnormal_scale = 16777216.0f; // 2^24
@@ -106,6 +111,7 @@ struct math_constants<double> {
   static constexpr double pio4_hi = 0x1.921fb54442d18p-1, pio4_lo = 0x1.1a62633145c07p-55;
   static constexpr double pi_hi = 0x1.921fb54442d18p+1, pi_lo = 0x1.1a62633145c07p-53;
   static constexpr double tan_3pi_8 = 2.41421356237309504880, tan_pi_8 = 0.41421356237309504880;
+  static constexpr double atan2_num_min = 0x1p-968, atan2_den_max = 0x1p994;
   static constexpr double ln2_hi = 0x1.62e42fefa3800p-1,
                           ln2_lo = 0x1.ef35793c76730p-45; // n*hi exact, |n| < 2^11
   static constexpr double log2e = 0x1.71547652b82fep+0, log2e_lo = 0x1.777d0ffda0d24p-56;
@@ -117,6 +123,7 @@ struct math_constants<double> {
   static constexpr double exp_clamp_lo = -760.0, exp_clamp_hi = 720.0;
   static constexpr double exp2_clamp_lo = -1100.0, exp2_clamp_hi = 1040.0;
   static constexpr double expm1_clamp_lo = -50.0;
+  static constexpr double pow_dw_limit = 2048.0;
   static constexpr double exp_fast_limit = 708.0, exp2_fast_limit = 1020.0;
   static constexpr double subnormal_scale = 18014398509481984.0; // 2^54
   static constexpr double subnormal_scale_log2 = 54.0;
