@@ -25,17 +25,6 @@ Manifold collide(BodyShape const& a, Iso3 const& pa, BodyShape const& b, Iso3 co
       [&](auto const& sa, auto const& sb) { return contact_manifold(sa, pa, sb, pb, cfg); }, a, b);
 }
 
-/// v scaled down to length at most max. Not GVec3::clamp_length_max: for components near
-/// FLT_MAX the squared length overflows to inf and that scales v to 0; this one rescales first.
-Vec3 clamp_speed(Vec3 const& v, float max) {
-  float const len = v.length();
-  if (len <= max) return v;
-  float const m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
-  if (!(m > 0.0f) || !std::isfinite(m)) return v; // NaN or inf: the finite check catches it
-  Vec3 const u = v / m;
-  return u * (max / u.length());
-}
-
 } // namespace
 
 /// Broad phase: the pairs of grown AABBs that overlap, at least one body dynamic.
@@ -157,8 +146,8 @@ void World::integrate_velocities(float h) {
     BodyState& s = states_[i];
     Vec3 v = s.linear_velocity * (1.0f / (1.0f + h * b.linear_damping)) + g * (h * b.gravity_scale);
     Vec3 w = s.angular_velocity * (1.0f / (1.0f + h * b.angular_damping));
-    s.linear_velocity = clamp_speed(v, config_.max_linear_speed);
-    s.angular_velocity = clamp_speed(w, max_w);
+    s.linear_velocity = v.clamp_length_max(config_.max_linear_speed);
+    s.angular_velocity = w.clamp_length_max(max_w);
   }
 }
 

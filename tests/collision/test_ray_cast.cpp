@@ -1,4 +1,4 @@
-// Closed-form ray casts: against long-double oracles on random rays, the notes' bad-input
+// Closed-form ray casts: against long-double oracles on random rays, the header's bad-input
 // cases, the robust sphere discriminant on far spheres, and lane-exactness of every shape.
 #include "../math/math_support.hpp"
 
