@@ -425,8 +425,8 @@ TEMPLATE_TEST_CASE("clamp_length of huge, infinite and NaN vectors", "[math][vec
   CHECK(test::same(V{}.clamp_length(S(1), S(2)), V{}));
 }
 
-TEMPLATE_LIST_TEST_CASE("clamp_length is lane-exact with huge, ordinary and non-finite lanes",
-                        "[math][vec3][clamp][lanes]", test::wide_real_types) {
+PLUME_WIDE_TEST_CASE("clamp_length is lane-exact with huge, ordinary and non-finite lanes",
+                     "[math][vec3][clamp][lanes]", test::wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;
   using L = std::numeric_limits<S>;
