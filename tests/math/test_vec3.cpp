@@ -164,7 +164,7 @@ void check_vec3_lanes(char const* name, F f) {
 } // namespace
 
 PLUME_WIDE_TEST_CASE("every vec3 method is lane-exact", "[math][vec3][lanes]",
-                        test::wide_real_types) {
+                     test::wide_real_types) {
   using T = TestType;
 #define V3(expr)                                                                                   \
   check_vec3_lanes<T>(#expr, []([[maybe_unused]] auto a, [[maybe_unused]] auto b,                  \
@@ -449,7 +449,8 @@ PLUME_WIDE_TEST_CASE("clamp_length is lane-exact with huge, ordinary and non-fin
     GVec4<T> const v4{v.x, v.y, v.z, v.x};
     auto const max3 = v.clamp_length_max(hi), min3 = v.clamp_length_min(lo);
     auto const cl3 = v.clamp_length(lo, hi);
-    auto const max2 = v2.clamp_length_max(hi), cl4 = v4.clamp_length(lo, hi);
+    auto const max2 = v2.clamp_length_max(hi);
+    auto const cl4 = v4.clamp_length(lo, hi);
     for (std::size_t i = 0; i < lanes_v<T>; ++i) {
       auto const vi = lane(v, i);
       S const hi_i = plume::lane(hi, i), lo_i = plume::lane(lo, i);
