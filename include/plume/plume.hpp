@@ -6,4 +6,5 @@
 #include <plume/math.hpp>
 #include <plume/numerics.hpp>
 #include <plume/solver.hpp>
+#include <plume/spatial.hpp>
 #include <plume/world.hpp>

@@ -1,0 +1,298 @@
+// plume/spatial/wide_bvh.hpp - GWideBvh<T, K>: a K-ary copy of a GAabbTree for fast queries.
+// Each node keeps its K children's boxes as GAabb3<T> lanes (K / lanes_v<T> groups), so one
+// ray or box is tested against all of a node's children in K / lanes_v<T> batch operations;
+// the scalar build runs the same template with T = float, one child per group.
+//
+//   AabbTree tree;  ...inserts...;  tree.rebuild();
+//   WideBvh bvh(tree);                     // T = f32xN, K = max(4, lanes): 4, 8 or 16 children
+//   auto hit = bvh.ray_cast(ray, 100.0f, [&](ProxyId id, float max_toi) {
+//     return toi_of_my_shape(id, ray, max_toi);   // +infinity (or > max_toi) for a miss
+//   });
+//   if (hit.hit()) use(hit.proxy, hit.toi);
+//
+// The copy is built from the tree's shape (each wide node takes the binary node's two children
+// and opens the inner child of largest surface area until it has K, Wald's collapse) and
+// does not follow later edits: build() again after the tree changes (O(n)).
+//
+// Results do not depend on T or K: ray_cast() returns the least toi the leaf callback gives,
+// ties to the lower proxy id, among the leaves whose fat boxes the ray enters within max_toi
+// (pruning is conservative: a node is skipped only when the ray enters its box beyond the
+// best toi so far, and rounding is monotone, so a parent's entry never exceeds a child's).
+// That holds when each leaf callback returns a toi at or beyond the ray's entry into the
+// leaf's fat box, as any shape inside its box does (fat boxes add a margin, so rounding of
+// the shape's own cast cannot undercut the box's entry).
+//
+// Traversal order: nearest entry first (ties to the lower child slot). Rays with a NaN or
+// infinite origin or direction, or a zero direction, and negative or NaN max_toi meet
+// nothing; max_toi may be +infinity.
+#pragma once
+
+#include <plume/numerics/memory.hpp>
+#include <plume/spatial/aabb_tree.hpp>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace plume {
+
+/// The closest hit of a tree ray cast: proxy null_proxy and toi +infinity for none.
+template <Float S>
+struct GTreeRayHit {
+  ProxyId proxy = null_proxy;
+  S toi = std::numeric_limits<S>::infinity();
+  bool hit() const noexcept { return proxy != null_proxy; }
+};
+using TreeRayHit = GTreeRayHit<float>;
+
+/// The default node width: the batch's lanes, but never fewer than 4 children.
+template <Real T>
+inline constexpr std::size_t default_arity_v = lanes_v<T> < 4 ? 4 : lanes_v<T>;
+
+template <Real T, std::size_t K = default_arity_v<T>>
+class GWideBvh {
+public:
+  using S = scalar_t<T>;
+  static constexpr std::size_t lanes = lanes_v<T>;
+  static constexpr std::size_t arity = K;
+  static constexpr std::size_t groups = K / lanes;
+  static_assert(K % lanes == 0 && K >= 2 && K <= 64, "K: a multiple of the lanes, 2..64");
+
+  /// A child reference: a node index, or leaf_bit | proxy id, or empty_child.
+  static constexpr std::uint32_t leaf_bit = 0x80000000u;
+  static constexpr std::uint32_t empty_child = 0xffffffffu;
+
+  struct Node {
+    std::array<GAabb3<T>, groups> box; ///< child c is lane c % lanes of box[c / lanes]
+    std::array<std::uint32_t, K> child;
+  };
+
+  GWideBvh() = default;
+  explicit GWideBvh(GAabbTree<S> const& tree) { build(tree); }
+
+  /// A copy of the tree's current shape and fat boxes. Throws std::length_error for proxy
+  /// ids of 2^31 or more.
+  void build(GAabbTree<S> const& tree);
+
+  bool empty() const noexcept { return nodes_.empty(); }
+  std::size_t node_count() const noexcept { return nodes_.size(); }
+  std::size_t leaf_count() const noexcept { return leaves_; }
+  std::vector<Node> const& nodes() const noexcept { return nodes_; }
+
+  /// f(ProxyId, entry) for each leaf whose fat box the ray enters at entry in [0, max_toi],
+  /// nearest first within each node; f returns the new max_toi (max_toi to go on, smaller to
+  /// clip, negative to stop).
+  template <class F>
+  void ray_query(GRay3<S> const& ray, S max_toi, F&& f) const;
+
+  /// The least toi the leaf cast gives, ties to the lower proxy; leaf(ProxyId, S max_toi)
+  /// returns the toi of the proxy's shape (a value above max_toi, e.g. +infinity, is a miss).
+  template <class LeafCast>
+  GTreeRayHit<S> ray_cast(GRay3<S> const& ray, S max_toi, LeafCast&& leaf) const;
+
+  /// f(ProxyId) for each leaf whose fat box intersects `box` (touching counts), in the tree's
+  /// order; f returns false to stop. A box with a NaN meets nothing.
+  template <class F>
+  void query(GAabb3<S> const& box, F&& f) const;
+
+private:
+  std::vector<Node> nodes_;
+  std::size_t leaves_ = 0;
+};
+
+/// The widest node the build has (f32xN lanes, at least 4 children).
+using WideBvh = GWideBvh<f32xN>;
+
+// ------------------------------------------------------------------------ build
+
+namespace detail {
+template <Real T>
+PLUME_INLINE GVec3<T> splat3(GVec3<scalar_t<T>> const& v) noexcept {
+  return {plume::splat<T>(v.x), plume::splat<T>(v.y), plume::splat<T>(v.z)};
+}
+} // namespace detail
+
+template <Real T, std::size_t K>
+void GWideBvh<T, K>::build(GAabbTree<S> const& tree) {
+  nodes_.clear();
+  leaves_ = 0;
+  auto const& bin = tree.nodes();
+  std::uint32_t const root = tree.root();
+  if (root == GAabbTree<S>::null_node) return;
+  using BinNode = typename GAabbTree<S>::Node;
+  auto const leaf_ref = [&](BinNode const& n) {
+    if (n.proxy >= leaf_bit) throw std::length_error("plume::GWideBvh: proxy id beyond 2^31");
+    ++leaves_;
+    return leaf_bit | n.proxy;
+  };
+  // Each task: fill wide node `slot` from binary node `from`.
+  struct Task {
+    std::uint32_t slot, from;
+  };
+  std::vector<Task> tasks;
+  nodes_.emplace_back();
+  tasks.push_back({0, root});
+  while (!tasks.empty()) {
+    Task const t = tasks.back();
+    tasks.pop_back();
+    // Open the inner child of largest area until there are K children (Wald's collapse).
+    std::array<std::uint32_t, K> kids{};
+    std::size_t n = 0;
+    if (bin[t.from].is_leaf()) {
+      kids[n++] = t.from;
+    } else {
+      kids[n++] = bin[t.from].left;
+      kids[n++] = bin[t.from].right;
+    }
+    while (n < K) {
+      std::size_t best = K;
+      S best_area = S(-1);
+      for (std::size_t i = 0; i < n; ++i) {
+        BinNode const& c = bin[kids[i]];
+        if (c.is_leaf()) continue;
+        S const a = c.box.surface_area();
+        if (a > best_area) {
+          best_area = a;
+          best = i;
+        }
+      }
+      if (best == K) break;
+      std::uint32_t const opened = kids[best];
+      for (std::size_t i = n; i > best + 1; --i)
+        kids[i] = kids[i - 1];
+      kids[best] = bin[opened].left;
+      kids[best + 1] = bin[opened].right;
+      ++n;
+    }
+    alignas(64) std::array<S, K> lo_x, lo_y, lo_z, hi_x, hi_y, hi_z;
+    std::array<std::uint32_t, K> child;
+    S const inf = std::numeric_limits<S>::infinity();
+    for (std::size_t i = 0; i < K; ++i) {
+      if (i >= n) {
+        lo_x[i] = lo_y[i] = lo_z[i] = inf; // EMPTY: no ray or box meets it
+        hi_x[i] = hi_y[i] = hi_z[i] = -inf;
+        child[i] = empty_child;
+        continue;
+      }
+      BinNode const& c = bin[kids[i]];
+      lo_x[i] = c.box.min.x, lo_y[i] = c.box.min.y, lo_z[i] = c.box.min.z;
+      hi_x[i] = c.box.max.x, hi_y[i] = c.box.max.y, hi_z[i] = c.box.max.z;
+      if (c.is_leaf()) {
+        child[i] = leaf_ref(c);
+      } else {
+        child[i] = std::uint32_t(nodes_.size());
+        nodes_.emplace_back();
+        tasks.push_back({child[i], kids[i]});
+      }
+    }
+    Node& node = nodes_[t.slot];
+    node.child = child;
+    for (std::size_t g = 0; g < groups; ++g) {
+      std::size_t const o = g * lanes;
+      node.box[g] = GAabb3<T>{{plume::load_aligned<T>(&lo_x[o]), plume::load_aligned<T>(&lo_y[o]),
+                               plume::load_aligned<T>(&lo_z[o])},
+                              {plume::load_aligned<T>(&hi_x[o]), plume::load_aligned<T>(&hi_y[o]),
+                               plume::load_aligned<T>(&hi_z[o])}};
+    }
+  }
+}
+
+// ------------------------------------------------------------------------ queries
+
+template <Real T, std::size_t K>
+template <class F>
+void GWideBvh<T, K>::ray_query(GRay3<S> const& ray, S max_toi, F&& f) const {
+  if (nodes_.empty() || !detail::usable_ray(ray) || !(max_toi >= S(0))) return;
+  bool const neg[3] = {std::signbit(ray.dir.x), std::signbit(ray.dir.y), std::signbit(ray.dir.z)};
+  auto const r =
+      detail::make_ray_slab(detail::splat3<T>(ray.origin), detail::splat3<T>(ray.dir), neg);
+  struct Entry {
+    std::uint32_t ref;
+    S entry;
+  };
+  detail::TraversalStack<Entry> stack;
+  stack.push_back({0, S(0)});
+  while (!stack.empty()) {
+    Entry const e = stack.pop_back();
+    if (e.entry > max_toi) continue;
+    if (e.ref & leaf_bit) {
+      max_toi = f(ProxyId(e.ref & ~leaf_bit), e.entry);
+      if (!(max_toi >= S(0))) return;
+      continue;
+    }
+    Node const& node = nodes_[e.ref];
+    alignas(64) std::array<S, K> entry;
+    std::uint64_t bits = 0;
+    T const limit = plume::splat<T>(max_toi);
+    for (std::size_t g = 0; g < groups; ++g) {
+      T en;
+      auto const m = detail::ray_enters(r, node.box[g].min, node.box[g].max, limit, en);
+      plume::store_aligned(&entry[g * lanes], en);
+      bits |= plume::bitmask(m) << (g * lanes);
+    }
+    // The children met, farthest pushed first (ties: higher slot first), nearest on top.
+    std::array<Entry, K> met;
+    std::size_t n = 0;
+    for (; bits; bits &= bits - 1) {
+      auto const i = std::size_t(std::countr_zero(bits));
+      Entry const c{node.child[i], entry[i]};
+      std::size_t j = n++;
+      for (; j > 0 && met[j - 1].entry <= c.entry; --j) // descending entry, ties: higher slot first
+        met[j] = met[j - 1];
+      met[j] = c;
+    }
+    for (std::size_t i = 0; i < n; ++i)
+      stack.push_back(met[i]);
+  }
+}
+
+template <Real T, std::size_t K>
+template <class LeafCast>
+auto GWideBvh<T, K>::ray_cast(GRay3<S> const& ray, S max_toi, LeafCast&& leaf) const
+    -> GTreeRayHit<S> {
+  GTreeRayHit<S> best;
+  if (!(max_toi >= S(0))) return best;
+  S limit = max_toi;
+  ray_query(ray, max_toi, [&](ProxyId id, S) {
+    S const t = leaf(id, limit);
+    if (t <= limit && (t < limit || id < best.proxy) && t >= S(0)) {
+      best.proxy = id;
+      best.toi = t;
+      limit = t;
+    }
+    return limit;
+  });
+  return best;
+}
+
+template <Real T, std::size_t K>
+template <class F>
+void GWideBvh<T, K>::query(GAabb3<S> const& box, F&& f) const {
+  if (nodes_.empty() || !bool(box.is_valid())) return;
+  GAabb3<T> const q{detail::splat3<T>(box.min), detail::splat3<T>(box.max)};
+  detail::TraversalStack<std::uint32_t> stack;
+  stack.push_back(0);
+  while (!stack.empty()) {
+    std::uint32_t const ref = stack.pop_back();
+    if (ref & leaf_bit) {
+      if (!f(ProxyId(ref & ~leaf_bit))) return;
+      continue;
+    }
+    Node const& node = nodes_[ref];
+    std::uint64_t bits = 0;
+    for (std::size_t g = 0; g < groups; ++g)
+      bits |= plume::bitmask(node.box[g].intersects(q)) << (g * lanes);
+    // Highest slot pushed first, so slot order is kept.
+    while (bits) {
+      auto const i = std::size_t(63 - std::countl_zero(bits));
+      stack.push_back(node.child[i]);
+      bits &= ~(std::uint64_t(1) << i);
+    }
+  }
+}
+
+} // namespace plume
