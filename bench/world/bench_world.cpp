@@ -2,6 +2,11 @@
 // solver stages alone (prepare + substeps + restitution: the part written over T), at every
 // f32 width of the build. Names: world_step/<scene>/f32/plume/x<W>, world_solver/...
 //
+// Static-heavy scenes (spatial_static/<statics>/<broad phase>, items = world steps): a grid
+// of N static boxes (1 m apart) with 100 dynamic spheres resting on the 10 x 10 boxes at its
+// centre, stepped with the widest batch. The dynamic work is the same for every N, so the
+// BVH's step time should not grow with N; sort and sweep sorts every body every step.
+//
 // Every benchmark starts from the same settled world (60 steps after building the scene,
 // copied), so the widths do the same work; the solver-stage figures use the world's own
 // stage timer (StepProfile) as Google Benchmark's manual time.
@@ -57,10 +62,59 @@ void register_width(int layers) {
       ->Unit(benchmark::kMillisecond);
 }
 
+/// N = side^2 static boxes and 100 dynamic spheres on the central ones, settled 120 steps.
+World const& settled_static_scene(int side, BroadPhaseKind kind) {
+  static std::map<std::pair<int, int>, World> cache;
+  auto const key = std::make_pair(side, int(kind));
+  auto it = cache.find(key);
+  if (it == cache.end()) {
+    WorldConfig cfg;
+    cfg.broad_phase = kind;
+    World w(cfg);
+    float const half = 0.5f * float(side - 1);
+    for (int i = 0; i < side; ++i)
+      for (int k = 0; k < side; ++k)
+        w.create_body({.type = BodyType::static_body,
+                       .pose = Iso3::from_translation({float(i) - half, 0.0f, float(k) - half}),
+                       .shape = Cuboid{Vec3::splat(0.4f)}});
+    for (int i = 0; i < 10; ++i)
+      for (int k = 0; k < 10; ++k)
+        w.create_body(
+            {.pose = Iso3::from_translation(
+                 {float(i) - 4.5f + 0.5f * (side % 2 ? 0.0f : 1.0f) + 0.05f * float(k % 3), 0.8f,
+                  float(k) - 4.5f + 0.5f * (side % 2 ? 0.0f : 1.0f)}),
+             .shape = Sphere{0.3f}});
+    for (int s = 0; s < 120; ++s)
+      w.step(1.0f / 60.0f);
+    it = cache.emplace(key, std::move(w)).first;
+  }
+  return it->second;
+}
+
+void register_static_scene(int side, BroadPhaseKind kind) {
+  std::string const name = "spatial_static/" + std::to_string(side * side) + "/" +
+                           (kind == BroadPhaseKind::bvh ? "bvh" : "sort_and_sweep");
+  benchmark::RegisterBenchmark(name.c_str(), [side, kind](benchmark::State& st) {
+    World world = settled_static_scene(side, kind);
+    plume::bench::run_items(st, 1, [&] { world.step(1.0f / 60.0f); });
+    st.counters["bodies"] = double(world.body_count());
+    st.counters["contacts"] = double(world.contacts().size());
+    StepProfile const& p = world.last_profile(); // the last step's stages, in microseconds
+    st.counters["broad_us"] = 1e6 * p.broad_phase;
+    st.counters["narrow_us"] = 1e6 * p.narrow_phase;
+    st.counters["prepare_us"] = 1e6 * p.prepare;
+    st.counters["solve_us"] = 1e6 * p.solve;
+    st.counters["finalize_us"] = 1e6 * p.finalize;
+  })->Unit(benchmark::kMicrosecond);
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
   for (int layers : {15, 20})
     plume::bench::for_each_f32_width([&]<class T>() { register_width<T>(layers); });
+  for (int side : {200, 20})
+    for (BroadPhaseKind kind : {BroadPhaseKind::bvh, BroadPhaseKind::sort_and_sweep})
+      register_static_scene(side, kind);
   return plume::bench::run_benchmarks(argc, argv);
 }

@@ -27,20 +27,39 @@ Manifold collide(BodyShape const& a, Iso3 const& pa, BodyShape const& b, Iso3 co
 
 } // namespace
 
+Aabb3 World::grown_aabb(std::uint32_t i) const {
+  float const margin = config_.speculative_distance;
+  Aabb3 const box = aabb(BodyId{i});
+  return {box.min - Vec3::splat(margin), box.max + Vec3::splat(margin)};
+}
+
 /// Broad phase: the pairs of grown AABBs that overlap, at least one body dynamic.
 void World::find_pairs() {
-  float const margin = config_.speculative_distance;
-  boxes_.resize(bodies_.size());
-  for (std::uint32_t i = 0; i < bodies_.size(); ++i) {
-    Aabb3 const box = aabb(BodyId{i});
-    boxes_[i] = {box.min - Vec3::splat(margin), box.max + Vec3::splat(margin)};
+  auto const keep = [&](std::uint32_t a, std::uint32_t b) {
+    return bodies_[a].is_dynamic() || bodies_[b].is_dynamic();
+  };
+  if (config_.broad_phase == BroadPhaseKind::sort_and_sweep) {
+    boxes_.resize(bodies_.size());
+    for (std::uint32_t i = 0; i < bodies_.size(); ++i)
+      boxes_[i] = grown_aabb(i);
+    sort_and_sweep_.find_pairs(boxes_, keep, pairs_);
+    return;
   }
-  broad_phase_.find_pairs(
-      boxes_,
-      [&](std::uint32_t a, std::uint32_t b) {
-        return bodies_[a].is_dynamic() || bodies_[b].is_dynamic();
-      },
-      pairs_);
+  // New bodies enter in index order; then the moving bodies and the static ones that moved.
+  for (auto i = std::uint32_t(bvh_.body_count()); i < bodies_.size(); ++i)
+    bvh_.set_box(i, grown_aabb(i), bodies_[i].type != BodyType::static_body);
+  for (std::uint32_t i : moving_bodies_)
+    bvh_.set_box(i, grown_aabb(i), true);
+  for (std::uint32_t i : stale_statics_)
+    bvh_.set_box(i, grown_aabb(i), false);
+  stale_statics_.clear();
+  dynamic_queriers_.clear();
+  kinematic_queriers_.clear();
+  for (std::uint32_t i : moving_bodies_) {
+    if (bodies_[i].frozen) continue;
+    (bodies_[i].type == BodyType::dynamic ? dynamic_queriers_ : kinematic_queriers_).push_back(i);
+  }
+  bvh_.find_pairs(dynamic_queriers_, kinematic_queriers_, keep, pairs_);
 }
 
 /// Narrow phase: a manifold per pair, then the contact cache matches them with last step's.
@@ -61,7 +80,7 @@ void World::collide_pairs() {
 
 /// World inverse inertias at the step's start; the position deltas start at zero.
 void World::prepare_bodies() {
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+  for (std::uint32_t i : moving_bodies_) { // a static body's state is never written
     Body& b = bodies_[i];
     if (b.is_dynamic()) {
       Mat3 const r = Mat3::from_quat(b.pose.rotation);
@@ -140,7 +159,7 @@ void World::solve_substeps(GConstraintBlocks<GContactConstraint, T>& blocks, int
 void World::integrate_velocities(float h) {
   Vec3 const g = config_.gravity;
   float const max_w = config_.max_rotation / h;
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+  for (std::uint32_t i : moving_bodies_) {
     Body const& b = bodies_[i];
     if (!b.is_dynamic()) continue;
     BodyState& s = states_[i];
@@ -152,7 +171,7 @@ void World::integrate_velocities(float h) {
 }
 
 void World::integrate_positions(float h) {
-  for (std::size_t i = 0; i < bodies_.size(); ++i) {
+  for (std::uint32_t i : moving_bodies_) {
     if (!bodies_[i].moves()) continue;
     BodyState& s = states_[i];
     s.delta_position = s.delta_position + s.linear_velocity * h;
@@ -175,7 +194,7 @@ void World::store_impulses(GConstraintBlocks<GContactConstraint, T> const& block
 /// Poses from the accumulated deltas; a body whose state turned non-finite is frozen.
 void World::finalize_bodies() {
   std::vector<std::uint32_t> newly_frozen;
-  for (std::uint32_t i = 0; i < bodies_.size(); ++i) {
+  for (std::uint32_t i : moving_bodies_) {
     Body& b = bodies_[i];
     if (!b.moves()) continue;
     BodyState& s = states_[i];

@@ -101,6 +101,7 @@ CreateBodyResult World::create_body(BodyDef const& def) {
     s.angular_velocity = def.angular_velocity;
   }
   BodyId const id{std::uint32_t(bodies_.size())};
+  (b.type == BodyType::static_body ? stale_statics_ : moving_bodies_).push_back(id.index);
   bodies_.push_back(std::move(b));
   states_.back() = s;
   states_.push_back(BodyState{});
@@ -120,6 +121,7 @@ BodyError World::set_pose(BodyId id, Iso3 const& pose) {
   Body& b = bodies_[id.index];
   b.pose = {pose.rotation * (1.0f / qlen), pose.translation};
   b.center = b.pose.transform_point(b.local_center);
+  if (b.type == BodyType::static_body) stale_statics_.push_back(id.index);
   return BodyError::none;
 }
 

@@ -1,5 +1,5 @@
 // plume/solver/world/world.hpp - a minimal rigid-body world around the wide contact solver: bodies
-// with shapes from the collision module, a sort-and-sweep broad phase, manifolds from
+// with shapes from the collision module, a BVH broad phase, manifolds from
 // collision/manifold.hpp matched across steps by feature id, a persistent graph colouring
 // and the soft-step solver (solver/contact_constraint.hpp) run W constraints at a time.
 //
@@ -17,12 +17,12 @@
 // lane-exact), and so does every deterministic build (scalar, sse2, avx2, avx512).
 //
 // Step, in named stages (solver/world/step.cpp): find_pairs (broad phase, AABBs grown by the
-// speculative distance) -> collide_pairs (manifolds) -> the contact cache (warm starts,
-// colouring) -> prepare_bodies -> pack the constraints (solver/constraint_blocks.hpp) ->
-// per substep: integrate velocities (gravity, damping), warm start, solve, integrate
-// positions, relax -> restitution -> store impulses -> finalize_bodies (poses). Overflow
-// constraints (no free colour) are solved first in each pass, one at a time, then the
-// colours in order.
+// speculative distance; bounding volume hierarchies by default, WorldConfig::broad_phase) ->
+// collide_pairs (manifolds) -> the contact cache (warm starts, colouring) -> prepare_bodies -> pack
+// the constraints (solver/constraint_blocks.hpp) -> per substep: integrate velocities (gravity,
+// damping), warm start, solve, integrate positions, relax -> restitution -> store impulses ->
+// finalize_bodies (poses). Overflow constraints (no free colour) are solved first in each pass, one
+// at a time, then the colours in order.
 //
 // Bad input: create_body() rejects a non-finite pose, velocity or material and a dynamic
 // body whose shape and density give no positive finite mass (BodyError; the world is
@@ -60,6 +60,11 @@
 #include <vector>
 
 namespace plume {
+
+enum class BroadPhaseKind : std::uint8_t {
+  bvh,            ///< bounding volume hierarchies: static bodies cost nothing per step
+  sort_and_sweep, ///< every body sorted on x every step
+};
 
 enum class BodyType : std::uint8_t {
   static_body, ///< never moves, infinite mass
@@ -134,6 +139,9 @@ struct WorldConfig {
   /// the previous step within this distance (m).
   float contact_match_distance = 0.01f;
   ManifoldConfig manifold{};
+  /// Which broad phase finds the pairs (solver/world/broad_phase.hpp). Both give the same
+  /// pairs, so the same world; sort_and_sweep is the baseline the BVH is measured against.
+  BroadPhaseKind broad_phase = BroadPhaseKind::bvh;
 };
 
 /// Seconds spent in each part of the last step (std::chrono::steady_clock).
@@ -207,6 +215,7 @@ private:
 
   // The stages of a step, in order (solver/world/step.cpp).
   void find_pairs();
+  Aabb3 grown_aabb(std::uint32_t i) const;
   void collide_pairs();
   void prepare_bodies();
   template <class T>
@@ -223,8 +232,12 @@ private:
   WorldConfig config_;
   std::vector<Body> bodies_;
   std::vector<BodyState> states_; ///< one per body, then the shared identity record
-  SortAndSweep broad_phase_;
-  std::vector<Aabb3> boxes_;         ///< this step's grown AABBs, by body
+  SortAndSweep sort_and_sweep_;
+  BvhBroadPhase bvh_;
+  std::vector<Aabb3> boxes_;                 ///< sort and sweep: this step's grown AABBs, by body
+  std::vector<std::uint32_t> moving_bodies_; ///< every kinematic and dynamic body, by index
+  std::vector<std::uint32_t> stale_statics_; ///< static bodies created or moved since the last step
+  std::vector<std::uint32_t> dynamic_queriers_, kinematic_queriers_;
   std::vector<std::uint64_t> pairs_; ///< this step's overlapping pairs (body_pair_key)
   std::vector<PairManifold> found_;  ///< this step's manifolds, by pair
   ContactCache cache_;
