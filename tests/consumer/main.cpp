@@ -107,8 +107,24 @@ int main() {
   auto const [top_y, hash] = run_world(false);
   bool const world_ok = std::abs(top_y - 0.5f) < 0.05f && run_world(true).second == hash;
   std::printf("consumer: box at y = %g, world hash %016llx\n", top_y, (unsigned long long)hash);
+  // The README's spatial example: one box in a tree, a ray along +x into it.
+  AabbTree tree;
+  ProxyId const box_id = tree.insert(Aabb3{{0, 0, 0}, {1, 1, 1}}, 42);
+  bool const stayed = !tree.move(box_id, Aabb3{{0.02f, 0, 0}, {1.02f, 1, 1}});
+  tree.optimize();
+  int found = 0;
+  tree.query(Aabb3{{-1, -1, -1}, {0.5f, 0.5f, 0.5f}}, [&](ProxyId id) {
+    found += tree.user(id) == 42 ? 1 : 0;
+    return true;
+  });
+  WideBvh const bvh(tree);
+  TreeRayHit const tree_hit =
+      bvh.ray_cast(Ray3{{-5, 0.5f, 0.5f}, {1, 0, 0}}, 100.0f, [&](ProxyId, float) { return 5.0f; });
+  bool const spatial_ok = stayed && found == 1 && tree.validate().empty() && tree_hit.hit() &&
+                          tree_hit.proxy == box_id && tree_hit.toi == 5.0f;
+  std::printf("consumer: tree hit %u at %g\n", tree_hit.proxy, tree_hit.toi);
   return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok && solver_ok &&
-          ray_ok && contact_ok && world_ok)
+          ray_ok && contact_ok && world_ok && spatial_ok)
              ? 0
              : 1;
 }
