@@ -42,9 +42,16 @@ def floor_of_path(path):
 
 
 CASE_FLOOR = {}  # case -> floor, filled by load()
+# Benchmarks whose name does not end in a width (x<N>), e.g. spatial_build/.../plume/bvh or
+# spatial_tree/stress10k/reinsert: variant -> name -> fastest items/s, filled by load().
+UNWIDE = defaultdict(dict)
 
 
-def load(paths):
+def is_width(part):
+    return part.startswith("x") and part[1:].isdigit()
+
+
+def load(paths, variant=None):
     runs = defaultdict(list)  # (case, impl, width) -> [items/s]
     context = None
     for path in paths:
@@ -64,7 +71,12 @@ def load(paths):
                 if name.endswith(suffix):
                     name = name[: -len(suffix)]
             parts = name.split("/")
-            if len(parts) < 4 or not parts[-1].startswith("x"):
+            if not is_width(parts[-1]):
+                if variant is not None:
+                    best = UNWIDE[variant]
+                    best[name] = max(best.get(name, 0.0), float(ips))
+                continue
+            if len(parts) < 4:
                 continue
             case = "/".join(parts[:-2])
             CASE_FLOOR[case] = floor_of_path(path)
@@ -190,7 +202,7 @@ def main():
     order = [v for v in ("scalar", "sse2", "avx2", "avx512", "native") if v in by_variant]
     tables, ctx = {}, {}
     for v in order:
-        tables[v], c = load(by_variant[v])
+        tables[v], c = load(by_variant[v], v)
         ctx = ctx or c
     os.makedirs(out_dir, exist_ok=True)
     host = ctx.get("host_name", "?")
@@ -229,6 +241,14 @@ def main():
     lines.append("")
     lines += table_lines(within, cols, lambda case: within[case].get(("plume", 1)),
                          lambda c: f"{c[0]} x{c[1]}")
+    # Measures without widths (builds, tree optimisation): items/s in the widest build.
+    unwide = UNWIDE.get(widest, {})
+    if unwide:
+        lines.append("")
+        lines.append(f"## Without widths, {widest} build (items/s)")
+        lines.append("")
+        lines += ["| benchmark | items/s |", "|---|---|"]
+        lines += [f"| {name} | {human(v)} |" for name, v in sorted(unwide.items())]
     text = "\n".join(lines) + "\n"
     print(text)
     with open(os.path.join(out_dir, "width_report.md"), "w") as f:
