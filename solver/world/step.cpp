@@ -36,7 +36,8 @@ Aabb3 World::grown_aabb(std::uint32_t i) const {
 /// Broad phase: the pairs of grown AABBs that overlap, at least one body dynamic.
 void World::find_pairs() {
   auto const keep = [&](std::uint32_t a, std::uint32_t b) {
-    return bodies_[a].is_dynamic() || bodies_[b].is_dynamic();
+    return (bodies_[a].is_dynamic() || bodies_[b].is_dynamic()) &&
+           bodies_[a].layers.interacts(bodies_[b].layers);
   };
   if (config_.broad_phase == BroadPhaseKind::sort_and_sweep) {
     boxes_.resize(bodies_.size());
@@ -45,14 +46,8 @@ void World::find_pairs() {
     sort_and_sweep_.find_pairs(boxes_, keep, pairs_);
     return;
   }
-  // New bodies enter in index order; then the moving bodies and the static ones that moved.
-  for (auto i = std::uint32_t(bvh_.body_count()); i < bodies_.size(); ++i)
-    bvh_.set_box(i, grown_aabb(i), bodies_[i].type != BodyType::static_body);
-  for (std::uint32_t i : moving_bodies_)
-    bvh_.set_box(i, grown_aabb(i), true);
-  for (std::uint32_t i : stale_statics_)
-    bvh_.set_box(i, grown_aabb(i), false);
-  stale_statics_.clear();
+  trees_synced_ = false; // the step always syncs: bodies may have moved since a query
+  sync_trees();
   dynamic_queriers_.clear();
   kinematic_queriers_.clear();
   for (std::uint32_t i : moving_bodies_) {
@@ -246,6 +241,7 @@ void World::step_with(float dt) {
   auto const t_finalize = clock::now();
   store_impulses(blocks);
   finalize_bodies();
+  trees_synced_ = false; // bodies moved: a query syncs the trees first
   profile_.finalize = seconds_since(t_finalize);
   profile_.total = seconds_since(t_start);
 }

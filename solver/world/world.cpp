@@ -81,6 +81,7 @@ CreateBodyResult World::create_body(BodyDef const& def) {
   b.linear_damping = def.linear_damping;
   b.angular_damping = def.angular_damping;
   b.gravity_scale = def.gravity_scale;
+  b.layers = def.layers;
   if (def.type == BodyType::dynamic) {
     MassProperties const mp = shape_mass(def.shape, def.density);
     if (!(mp.mass > 0.0f) || !std::isfinite(mp.mass) || !finite(mp.center) ||
@@ -103,6 +104,7 @@ CreateBodyResult World::create_body(BodyDef const& def) {
   BodyId const id{std::uint32_t(bodies_.size())};
   (b.type == BodyType::static_body ? stale_statics_ : moving_bodies_).push_back(id.index);
   bodies_.push_back(std::move(b));
+  trees_synced_ = false;
   states_.back() = s;
   states_.push_back(BodyState{});
   cache_.reserve_bodies(bodies_.size());
@@ -122,6 +124,7 @@ BodyError World::set_pose(BodyId id, Iso3 const& pose) {
   b.pose = {pose.rotation * (1.0f / qlen), pose.translation};
   b.center = b.pose.transform_point(b.local_center);
   if (b.type == BodyType::static_body) stale_statics_.push_back(id.index);
+  trees_synced_ = false;
   return BodyError::none;
 }
 

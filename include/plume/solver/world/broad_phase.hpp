@@ -93,6 +93,10 @@ public:
   void find_pairs(std::span<std::uint32_t const> dynamic, std::span<std::uint32_t const> kinematic,
                   Keep&& keep, std::vector<std::uint64_t>& pairs);
 
+  /// The box body `index` last got (the exact box the pairs are checked on).
+  Aabb3 const& box(std::uint32_t index) const { return slots_.at(index).box; }
+  /// The bodies on the unbounded list, by index.
+  std::span<std::uint32_t const> unbounded() const noexcept { return unbounded_; }
   AabbTree const& static_tree() const noexcept { return static_; }
   AabbTree const& moving_tree() const noexcept { return moving_; }
   /// What the moving tree's last optimisation ran.

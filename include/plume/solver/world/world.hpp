@@ -37,8 +37,10 @@
 #pragma once
 
 #include <plume/collision/convex_hull.hpp>
+#include <plume/collision/gjk.hpp>
 #include <plume/collision/manifold.hpp>
 #include <plume/collision/mass_properties.hpp>
+#include <plume/collision/ray_cast.hpp>
 #include <plume/collision/shapes.hpp>
 #include <plume/math/aabb3.hpp>
 #include <plume/math/iso3.hpp>
@@ -54,6 +56,8 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <variant>
@@ -72,6 +76,17 @@ enum class BodyType : std::uint8_t {
   dynamic,     ///< moved by gravity and contacts
 };
 
+/// Collision filtering, as Avian's CollisionLayers: bodies a and b can touch when
+/// (a.memberships & b.filters) != 0 and (b.memberships & a.filters) != 0. A query sees a body
+/// when (body.memberships & QueryFilter::mask) != 0.
+struct CollisionLayers {
+  std::uint32_t memberships = 1;       ///< the layers the body is in
+  std::uint32_t filters = 0xffffffffu; ///< the layers it interacts with
+  bool interacts(CollisionLayers const& o) const noexcept {
+    return (memberships & o.filters) != 0 && (o.memberships & filters) != 0;
+  }
+};
+
 /// The shapes a body can have (one per body).
 using BodyShape = std::variant<Sphere, Capsule, Cuboid, Cylinder, ConvexHull, HalfSpace>;
 
@@ -87,6 +102,7 @@ struct BodyDef {
   float linear_damping = 0.0f;  ///< 1/s: v /= 1 + h c each substep
   float angular_damping = 0.0f; ///< 1/s
   float gravity_scale = 1.0f;
+  CollisionLayers layers{};
 };
 
 enum class BodyError : std::uint8_t {
@@ -102,6 +118,41 @@ struct BodyId {
   std::uint32_t index = ~std::uint32_t(0);
   bool valid() const noexcept { return index != ~std::uint32_t(0); }
   friend bool operator==(BodyId, BodyId) = default;
+};
+
+/// Which bodies a world query sees: those in a layer of `mask`, not in `exclude`, and for
+/// which `predicate` (when set) returns true.
+struct QueryFilter {
+  std::uint32_t mask = 0xffffffffu;
+  std::span<BodyId const> exclude{};
+  std::function<bool(BodyId)> predicate{};
+};
+
+/// A ray's hit on a body: toi in units of the ray's direction, the world point and the
+/// outward unit normal of the body's surface there (zero when the ray starts inside).
+struct WorldRayHit {
+  BodyId body;
+  float toi = 0.0f;
+  Vec3 point{};
+  Vec3 normal{};
+};
+
+/// A shape cast's first contact with a body: toi in units of the motion; point on the body;
+/// normal out of the body toward the cast shape; penetrating when it started in contact.
+struct WorldShapeHit {
+  BodyId body;
+  float toi = 0.0f;
+  Vec3 point{};
+  Vec3 normal{};
+  bool penetrating = false;
+};
+
+/// The nearest point on a body's surface to a query point (distance 0 and the point itself
+/// when the point is inside).
+struct WorldPointHit {
+  BodyId body;
+  float distance = 0.0f;
+  Vec3 point{};
 };
 
 struct CreateBodyResult {
@@ -172,6 +223,46 @@ public:
   BodyError set_pose(BodyId id, Iso3 const& pose);
   BodyError set_velocity(BodyId id, Vec3 const& linear, Vec3 const& angular);
 
+  CollisionLayers layers(BodyId id) const { return bodies_.at(id.index).layers; }
+  /// New layers, effective from the next step (contacts that the layers now forbid end then).
+  BodyError set_layers(BodyId id, CollisionLayers const& layers);
+
+  // -------------------------------------------------------------- spatial queries
+  // Exact queries on the bodies' shapes at their current poses, through the broad phase's
+  // trees (bodies created, moved or stepped since the last query are synced first). Every
+  // query takes a QueryFilter; non-finite input finds nothing. Reported in a deterministic
+  // order: by distance (toi) for the closest forms, by body index for the _all forms.
+
+  /// The closest body the ray hits within max_toi (ties: the lower body index).
+  std::optional<WorldRayHit> ray_cast(Ray3 const& ray, float max_toi,
+                                      QueryFilter const& filter = {}) const;
+  /// Every body the ray hits within max_toi, in increasing toi (ties by body index);
+  /// f returns false to stop.
+  void ray_cast_all(Ray3 const& ray, float max_toi,
+                    std::function<bool(WorldRayHit const&)> const& f,
+                    QueryFilter const& filter = {}) const;
+  /// One ray_cast per ray (out[i] for rays[i]; out must be as long as rays).
+  void ray_cast(std::span<Ray3 const> rays, float max_toi,
+                std::span<std::optional<WorldRayHit>> out, QueryFilter const& filter = {}) const;
+  /// The first body a convex shape (any BodyShape but HalfSpace) at `pose` hits moving by
+  /// t * motion, t in [0, cfg.max_toi], with cfg's target distance and penetration rule.
+  std::optional<WorldShapeHit> shape_cast(BodyShape const& shape, Iso3 const& pose,
+                                          Vec3 const& motion, ShapeCastConfig const& cfg = {},
+                                          QueryFilter const& filter = {}) const;
+  /// Bodies whose (grown) bounding boxes overlap `box`, by body index; f returns false to stop.
+  void overlap_aabb(Aabb3 const& box, std::function<bool(BodyId)> const& f,
+                    QueryFilter const& filter = {}) const;
+  /// Bodies whose shapes intersect (touch or overlap) the convex shape at `pose`, exactly
+  /// (GJK), by body index.
+  void overlap_shape(BodyShape const& shape, Iso3 const& pose, std::function<bool(BodyId)> const& f,
+                     QueryFilter const& filter = {}) const;
+  /// Bodies whose shapes contain the point (surface included), by body index.
+  void point_query(Vec3 const& point, std::function<bool(BodyId)> const& f,
+                   QueryFilter const& filter = {}) const;
+  /// The body whose surface is nearest the point within max_distance (inside: distance 0).
+  std::optional<WorldPointHit> project_point(Vec3 const& point, float max_distance,
+                                             QueryFilter const& filter = {}) const;
+
   /// Bodies frozen because their state turned non-finite (ever, in freezing order).
   std::span<BodyId const> frozen_bodies() const noexcept { return frozen_; }
   bool is_frozen(BodyId id) const { return bodies_.at(id.index).frozen; }
@@ -209,6 +300,7 @@ private:
     BodyShape shape;
     float friction = 0.6f, restitution = 0.0f;
     float linear_damping = 0.0f, angular_damping = 0.0f, gravity_scale = 1.0f;
+    CollisionLayers layers{};
     bool moves() const noexcept { return !frozen && type != BodyType::static_body; }
     bool is_dynamic() const noexcept { return !frozen && type == BodyType::dynamic; }
   };
@@ -216,6 +308,11 @@ private:
   // The stages of a step, in order (solver/world/step.cpp).
   void find_pairs();
   Aabb3 grown_aabb(std::uint32_t i) const;
+  void sync_trees() const;
+  bool passes(std::uint32_t i, QueryFilter const& filter) const;
+  /// Bodies whose grown boxes overlap `box` and pass the filter, by index (candidates).
+  void candidates(Aabb3 const& box, QueryFilter const& filter,
+                  std::vector<std::uint32_t>& out) const;
   void collide_pairs();
   void prepare_bodies();
   template <class T>
@@ -233,10 +330,12 @@ private:
   std::vector<Body> bodies_;
   std::vector<BodyState> states_; ///< one per body, then the shared identity record
   SortAndSweep sort_and_sweep_;
-  BvhBroadPhase bvh_;
+  // The trees also answer queries between steps, so a const query may sync them first.
+  mutable BvhBroadPhase bvh_;
+  mutable bool trees_synced_ = false;
   std::vector<Aabb3> boxes_;                 ///< sort and sweep: this step's grown AABBs, by body
   std::vector<std::uint32_t> moving_bodies_; ///< every kinematic and dynamic body, by index
-  std::vector<std::uint32_t> stale_statics_; ///< static bodies created or moved since the last step
+  mutable std::vector<std::uint32_t> stale_statics_; ///< statics created or moved since the last sync
   std::vector<std::uint32_t> dynamic_queriers_, kinematic_queriers_;
   std::vector<std::uint64_t> pairs_; ///< this step's overlapping pairs (body_pair_key)
   std::vector<PairManifold> found_;  ///< this step's manifolds, by pair

@@ -1,0 +1,319 @@
+// The world's spatial queries (include/plume/solver/world/world.hpp): candidates from the
+// broad phase's trees, then the exact query on each candidate's shape at its pose.
+#include <plume/solver/world/world.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace plume {
+
+namespace {
+
+constexpr float big = std::numeric_limits<float>::max();
+
+/// The ray against one body's shape: analytic where collision/ray_cast.hpp has the shape, GJK
+/// for hulls. Solid: a ray from inside hits at 0.
+RayHit cast_ray(BodyShape const& shape, Iso3 const& pose, Ray3 const& ray, float max_toi) {
+  return std::visit(
+      [&](auto const& s) -> RayHit {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, ConvexHull>)
+          return ray_cast_gjk(s, pose, ray, max_toi);
+        else
+          return ray_cast(s, pose, ray, max_toi);
+      },
+      shape);
+}
+
+/// The half-space's normal and a point of its plane, in world space.
+struct WorldPlane {
+  Vec3 normal, origin;
+  float height(Vec3 const& p) const { return normal.dot(p - origin); }
+};
+WorldPlane world_plane(HalfSpace const& h, Iso3 const& pose) {
+  return {pose.transform_vector(h.normal), pose.translation};
+}
+
+/// A convex query shape's deepest point along -n (its support in direction -n).
+template <class Q>
+Vec3 support_world(Q const& q, Iso3 const& pose, Vec3 const& dir) {
+  Vec3 const local = pose.inverse_transform_vector(dir);
+  Vec3 const core = pose.transform_point(q.core_support(local));
+  return core + dir * q.core_radius();
+}
+
+template <class F>
+decltype(auto) with_convex(BodyShape const& shape, F&& f) {
+  return std::visit(
+      [&](auto const& s) {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, HalfSpace>)
+          return f(Sphere{0.0f}, false); // not a query shape: callers stop on `false`
+        else
+          return f(s, true);
+      },
+      shape);
+}
+
+Aabb3 clamp_box(Aabb3 const& b) { // infinite query boxes become the largest finite one
+  return {b.min.max(Vec3::splat(-big)), b.max.min(Vec3::splat(big))};
+}
+
+} // namespace
+
+void World::sync_trees() const {
+  if (trees_synced_) return;
+  for (auto i = std::uint32_t(bvh_.body_count()); i < bodies_.size(); ++i)
+    bvh_.set_box(i, grown_aabb(i), bodies_[i].type != BodyType::static_body);
+  for (std::uint32_t i : moving_bodies_)
+    bvh_.set_box(i, grown_aabb(i), true);
+  for (std::uint32_t i : stale_statics_)
+    bvh_.set_box(i, grown_aabb(i), false);
+  stale_statics_.clear();
+  trees_synced_ = true;
+}
+
+bool World::passes(std::uint32_t i, QueryFilter const& filter) const {
+  if ((bodies_[i].layers.memberships & filter.mask) == 0) return false;
+  for (BodyId const e : filter.exclude)
+    if (e.index == i) return false;
+  return !filter.predicate || filter.predicate(BodyId{i});
+}
+
+void World::candidates(Aabb3 const& box, QueryFilter const& filter,
+                       std::vector<std::uint32_t>& out) const {
+  out.clear();
+  sync_trees();
+  Aabb3 const q = clamp_box(box);
+  if (!bool(q.is_valid())) return;
+  for (AabbTree const* tree : {&bvh_.static_tree(), &bvh_.moving_tree()})
+    tree->query(q, [&](ProxyId p) {
+      auto const i = std::uint32_t(tree->user(p));
+      if (bool(bvh_.box(i).intersects(q)) && passes(i, filter)) out.push_back(i);
+      return true;
+    });
+  for (std::uint32_t i : bvh_.unbounded())
+    if (bool(bvh_.box(i).intersects(q)) && passes(i, filter)) out.push_back(i);
+  std::sort(out.begin(), out.end());
+}
+
+BodyError World::set_layers(BodyId id, CollisionLayers const& layers) {
+  if (id.index >= bodies_.size()) return BodyError::bad_body;
+  bodies_[id.index].layers = layers;
+  return BodyError::none;
+}
+
+// ------------------------------------------------------------------------ rays
+
+void World::ray_cast_all(Ray3 const& ray, float max_toi,
+                         std::function<bool(WorldRayHit const&)> const& f,
+                         QueryFilter const& filter) const {
+  if (!bool(ray.origin.is_finite()) || !bool(ray.dir.is_finite()) || !(max_toi >= 0.0f)) return;
+  sync_trees();
+  float const limit = std::min(max_toi, big);
+  std::vector<WorldRayHit> hits;
+  auto const test = [&](std::uint32_t i) {
+    if (!passes(i, filter)) return;
+    Body const& b = bodies_[i];
+    RayHit const h = cast_ray(b.shape, b.pose, ray, limit);
+    if (h.hit) hits.push_back({BodyId{i}, h.toi, ray.at(h.toi), h.normal});
+  };
+  for (AabbTree const* tree : {&bvh_.static_tree(), &bvh_.moving_tree()})
+    tree->ray_query(ray, limit, [&](ProxyId p, float) {
+      test(std::uint32_t(tree->user(p)));
+      return limit;
+    });
+  for (std::uint32_t i : bvh_.unbounded())
+    test(i);
+  std::sort(hits.begin(), hits.end(), [](WorldRayHit const& a, WorldRayHit const& b) {
+    return a.toi < b.toi || (a.toi == b.toi && a.body.index < b.body.index);
+  });
+  for (WorldRayHit const& h : hits)
+    if (!f(h)) return;
+}
+
+std::optional<WorldRayHit> World::ray_cast(Ray3 const& ray, float max_toi,
+                                           QueryFilter const& filter) const {
+  if (!bool(ray.origin.is_finite()) || !bool(ray.dir.is_finite()) || !(max_toi >= 0.0f)) return {};
+  sync_trees();
+  std::optional<WorldRayHit> best;
+  float limit = std::min(max_toi, big);
+  auto const test = [&](std::uint32_t i) {
+    if (!passes(i, filter)) return;
+    Body const& b = bodies_[i];
+    RayHit const h = cast_ray(b.shape, b.pose, ray, limit);
+    if (!h.hit || h.toi > limit) return;
+    if (best && (h.toi > best->toi || (h.toi == best->toi && i > best->body.index))) return;
+    best = WorldRayHit{BodyId{i}, h.toi, ray.at(h.toi), h.normal};
+    limit = h.toi;
+  };
+  // Closest first: each tree's traversal skips boxes entered beyond the best toi so far.
+  for (AabbTree const* tree : {&bvh_.static_tree(), &bvh_.moving_tree()})
+    tree->ray_query(ray, limit, [&](ProxyId p, float) {
+      test(std::uint32_t(tree->user(p)));
+      return limit;
+    });
+  for (std::uint32_t i : bvh_.unbounded())
+    test(i);
+  return best;
+}
+
+void World::ray_cast(std::span<Ray3 const> rays, float max_toi,
+                     std::span<std::optional<WorldRayHit>> out, QueryFilter const& filter) const {
+  std::size_t const n = std::min(rays.size(), out.size());
+  for (std::size_t k = 0; k < n; ++k)
+    out[k] = ray_cast(rays[k], max_toi, filter);
+}
+
+// ------------------------------------------------------------------------ shapes
+
+std::optional<WorldShapeHit> World::shape_cast(BodyShape const& shape, Iso3 const& pose,
+                                               Vec3 const& motion, ShapeCastConfig const& cfg,
+                                               QueryFilter const& filter) const {
+  if (!pose.is_finite() || !bool(motion.is_finite()) || !(cfg.max_toi >= 0.0f) ||
+      !std::isfinite(cfg.max_toi) || !(cfg.target_distance >= 0.0f))
+    return {};
+  return with_convex(shape, [&](auto const& q, bool convex) -> std::optional<WorldShapeHit> {
+    if (!convex) return {};
+    Aabb3 const start = q.aabb(pose);
+    Aabb3 const end = q.aabb(Iso3{pose.rotation, pose.translation + motion * cfg.max_toi});
+    std::vector<std::uint32_t> near;
+    candidates(start.merge(end).grow(cfg.target_distance), filter, near);
+    std::optional<WorldShapeHit> best;
+    for (std::uint32_t i : near) {
+      Body const& b = bodies_[i];
+      WorldShapeHit h{BodyId{i}};
+      bool hit = false;
+      if (auto const* hs = std::get_if<HalfSpace>(&b.shape)) {
+        WorldPlane const plane = world_plane(*hs, b.pose);
+        Vec3 const deepest = support_world(q, pose, -plane.normal);
+        float const gap = plane.height(deepest) - cfg.target_distance;
+        float const closing = -plane.normal.dot(motion);
+        if (gap <= 0.0f) {
+          hit = cfg.stop_at_penetration || closing > 0.0f;
+          h.toi = 0.0f;
+          h.penetrating = true;
+        } else if (closing > 0.0f && gap <= closing * cfg.max_toi) {
+          hit = true;
+          h.toi = gap / closing;
+        }
+        Vec3 const at = deepest + motion * h.toi;
+        h.point = at - plane.normal * plane.height(at);
+        h.normal = plane.normal;
+      } else {
+        std::visit(
+            [&](auto const& s) {
+              using S = std::decay_t<decltype(s)>;
+              if constexpr (!std::is_same_v<S, HalfSpace>) {
+                ShapeCastHit const c = plume::shape_cast(q, pose, motion, s, b.pose, cfg);
+                if (!c.hit || c.failed) return;
+                hit = true;
+                h.toi = c.toi;
+                h.point = c.point_b;
+                h.normal = -c.normal; // out of the body, toward the cast shape
+                h.penetrating = bool(c.penetrating);
+              }
+            },
+            b.shape);
+      }
+      if (!hit) continue;
+      if (!best || h.toi < best->toi) best = h; // ties: the lower index, visited first
+    }
+    return best;
+  });
+}
+
+void World::overlap_aabb(Aabb3 const& box, std::function<bool(BodyId)> const& f,
+                         QueryFilter const& filter) const {
+  std::vector<std::uint32_t> near;
+  candidates(box, filter, near);
+  for (std::uint32_t i : near)
+    if (!f(BodyId{i})) return;
+}
+
+namespace {
+
+/// Whether the convex shape q at pose touches body shape b at pose_b.
+template <class Q>
+bool touches(Q const& q, Iso3 const& pose, BodyShape const& b, Iso3 const& pose_b) {
+  if (auto const* hs = std::get_if<HalfSpace>(&b)) {
+    WorldPlane const plane = world_plane(*hs, pose_b);
+    return plane.height(support_world(q, pose, -plane.normal)) <= 0.0f;
+  }
+  return std::visit(
+      [&](auto const& s) {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, HalfSpace>) {
+          return false;
+        } else {
+          ClosestPoints const c = closest_points(q, pose, s, pose_b);
+          return !c.failed && (c.overlap || c.distance <= 0.0f);
+        }
+      },
+      b);
+}
+
+} // namespace
+
+void World::overlap_shape(BodyShape const& shape, Iso3 const& pose,
+                          std::function<bool(BodyId)> const& f, QueryFilter const& filter) const {
+  if (!pose.is_finite()) return;
+  with_convex(shape, [&](auto const& q, bool convex) {
+    if (!convex) return 0;
+    std::vector<std::uint32_t> near;
+    candidates(q.aabb(pose), filter, near);
+    for (std::uint32_t i : near)
+      if (touches(q, pose, bodies_[i].shape, bodies_[i].pose) && !f(BodyId{i})) break;
+    return 0;
+  });
+}
+
+void World::point_query(Vec3 const& point, std::function<bool(BodyId)> const& f,
+                        QueryFilter const& filter) const {
+  if (!bool(point.is_finite())) return;
+  std::vector<std::uint32_t> near;
+  candidates({point, point}, filter, near);
+  Iso3 const at = Iso3::from_translation(point);
+  for (std::uint32_t i : near)
+    if (touches(Sphere{0.0f}, at, bodies_[i].shape, bodies_[i].pose) && !f(BodyId{i})) return;
+}
+
+std::optional<WorldPointHit> World::project_point(Vec3 const& point, float max_distance,
+                                                  QueryFilter const& filter) const {
+  if (!bool(point.is_finite()) || !(max_distance >= 0.0f)) return {};
+  float const reach = std::min(max_distance, big);
+  std::vector<std::uint32_t> near;
+  candidates(clamp_box(Aabb3{point, point}.grow(reach)), filter, near);
+  Iso3 const at = Iso3::from_translation(point);
+  std::optional<WorldPointHit> best;
+  for (std::uint32_t i : near) {
+    Body const& b = bodies_[i];
+    WorldPointHit h{BodyId{i}};
+    if (auto const* hs = std::get_if<HalfSpace>(&b.shape)) {
+      WorldPlane const plane = world_plane(*hs, b.pose);
+      float const d = plane.height(point);
+      h.distance = std::max(d, 0.0f);
+      h.point = d > 0.0f ? point - plane.normal * d : point;
+    } else {
+      ClosestPoints const c = std::visit(
+          [&](auto const& s) -> ClosestPoints {
+            using S = std::decay_t<decltype(s)>;
+            if constexpr (std::is_same_v<S, HalfSpace>)
+              return {};
+            else
+              return closest_points(Sphere{0.0f}, at, s, b.pose);
+          },
+          b.shape);
+      if (c.failed) continue;
+      bool const inside = c.overlap || c.distance <= 0.0f;
+      h.distance = inside ? 0.0f : c.distance;
+      h.point = inside ? point : c.point_b;
+    }
+    if (h.distance > reach) continue;
+    if (!best || h.distance < best->distance) best = h;
+  }
+  return best;
+}
+
+} // namespace plume

@@ -1,0 +1,345 @@
+// The world's spatial queries against brute force over every body (the shapes' own pair
+// queries at the bodies' poses, no tree), on random scenes of every shape, after steps;
+// filters and collision layers; bad input.
+#include <fixtures/scenes.hpp>
+#include <plume/solver/world/world.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+using namespace plume;
+
+namespace {
+
+RayHit brute_ray(BodyShape const& shape, Iso3 const& pose, Ray3 const& ray, float max_toi) {
+  return std::visit(
+      [&](auto const& s) -> RayHit {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, ConvexHull>)
+          return ray_cast_gjk(s, pose, ray, max_toi);
+        else
+          return ray_cast(s, pose, ray, max_toi);
+      },
+      shape);
+}
+
+/// The signed distance from a point to a body (negative or zero inside), brute force.
+float brute_distance(BodyShape const& shape, Iso3 const& pose, Vec3 const& p) {
+  return std::visit(
+      [&](auto const& s) -> float {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, HalfSpace>) {
+          return pose.transform_vector(s.normal).dot(p - pose.translation);
+        } else {
+          ClosestPoints const c = closest_points(Sphere{0.0f}, Iso3::from_translation(p), s, pose);
+          return c.overlap ? 0.0f : c.distance;
+        }
+      },
+      shape);
+}
+
+ConvexHull tetra_hull() {
+  std::vector<Vec3> const pts = {{0, 0, 0}, {0.8f, 0, 0}, {0, 0.8f, 0}, {0, 0, 0.8f}};
+  return ConvexHull::build(pts).hull;
+}
+
+/// A ground half-space and n bodies of every shape, static and dynamic, in [-6, 6]^2 x [0, 5],
+/// stepped 20 times.
+World random_scene(std::uint32_t seed, int n, BroadPhaseKind kind = BroadPhaseKind::bvh) {
+  WorldConfig cfg;
+  cfg.broad_phase = kind;
+  World w(cfg);
+  scenes::add_ground(w);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> at(-6.0f, 6.0f), up(0.3f, 5.0f), r(0.2f, 0.7f);
+  ConvexHull const hull = tetra_hull();
+  for (int i = 0; i < n; ++i) {
+    BodyShape shape;
+    switch (rng() % 5) {
+    case 0:
+      shape = Sphere{r(rng)};
+      break;
+    case 1:
+      shape = Capsule{r(rng), 0.5f * r(rng)};
+      break;
+    case 2:
+      shape = Cuboid{Vec3{r(rng), r(rng), r(rng)}};
+      break;
+    case 3:
+      shape = Cylinder{r(rng), r(rng)};
+      break;
+    default:
+      shape = hull;
+      break;
+    }
+    Vec3 axis{at(rng), at(rng), at(rng)};
+    axis = axis.length() > 0.1f ? axis.normalize() : Vec3::Y;
+    Quat const q = Quat::from_axis_angle(axis, at(rng));
+    w.create_body({.type = rng() % 3 == 0 ? BodyType::static_body : BodyType::dynamic,
+                   .pose = Iso3{q, {at(rng), up(rng), at(rng)}},
+                   .shape = shape});
+  }
+  for (int s = 0; s < 20; ++s)
+    w.step(1.0f / 60.0f);
+  return w;
+}
+
+} // namespace
+
+TEST_CASE("world queries: rays against brute force over every body", "[world][queries]") {
+  World const w = random_scene(5, 120);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> at(-8.0f, 8.0f);
+  int hits = 0;
+  for (int k = 0; k < 400; ++k) {
+    Ray3 const ray{{at(rng), 6.0f + 0.5f * at(rng), at(rng)}, {at(rng), at(rng) - 4.0f, at(rng)}};
+    float const max_toi = k % 4 == 0 ? std::numeric_limits<float>::infinity() : 2.0f;
+    std::vector<WorldRayHit> brute;
+    for (std::uint32_t i = 0; i < w.body_count(); ++i) {
+      RayHit const h = brute_ray(w.shape(BodyId{i}), w.pose(BodyId{i}), ray,
+                                 std::min(max_toi, std::numeric_limits<float>::max()));
+      if (h.hit) brute.push_back({BodyId{i}, h.toi, ray.at(h.toi), h.normal});
+    }
+    std::sort(brute.begin(), brute.end(), [](WorldRayHit const& a, WorldRayHit const& b) {
+      return a.toi < b.toi || (a.toi == b.toi && a.body.index < b.body.index);
+    });
+    auto const got = w.ray_cast(ray, max_toi);
+    INFO("ray " << k);
+    REQUIRE(got.has_value() == !brute.empty());
+    if (got) {
+      ++hits;
+      CHECK(got->body == brute.front().body);
+      CHECK(got->toi == brute.front().toi);
+      CHECK(got->normal.x == brute.front().normal.x);
+    }
+    std::vector<WorldRayHit> all;
+    w.ray_cast_all(ray, max_toi, [&](WorldRayHit const& h) {
+      all.push_back(h);
+      return true;
+    });
+    REQUIRE(all.size() == brute.size());
+    for (std::size_t j = 0; j < all.size(); ++j) {
+      CHECK(all[j].body == brute[j].body);
+      CHECK(all[j].toi == brute[j].toi);
+    }
+    if (all.size() > 1) { // stopping early
+      std::size_t seen = 0;
+      w.ray_cast_all(ray, max_toi, [&](WorldRayHit const&) { return ++seen < 1; });
+      CHECK(seen == 1);
+    }
+  }
+  CHECK(hits > 100);
+  // The batch form is the single form per ray.
+  std::vector<Ray3> rays;
+  for (int k = 0; k < 32; ++k)
+    rays.push_back({{at(rng), 8.0f, at(rng)}, {0.1f * at(rng), -1.0f, 0.1f * at(rng)}});
+  std::vector<std::optional<WorldRayHit>> out(rays.size());
+  w.ray_cast(rays, 20.0f, out);
+  for (std::size_t k = 0; k < rays.size(); ++k) {
+    auto const one = w.ray_cast(rays[k], 20.0f);
+    REQUIRE(out[k].has_value() == one.has_value());
+    if (one) CHECK(out[k]->body == one->body);
+  }
+}
+
+TEST_CASE("world queries: points, boxes and shapes against brute force", "[world][queries]") {
+  World const w = random_scene(17, 120);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> at(-7.0f, 7.0f), h(-0.5f, 5.0f);
+  float const margin = w.config().speculative_distance;
+  int contained = 0, overlapped = 0;
+  for (int k = 0; k < 300; ++k) {
+    Vec3 const p{at(rng), h(rng), at(rng)};
+    INFO("query " << k << " at " << p);
+    // point_query
+    std::vector<std::uint32_t> got, want;
+    w.point_query(p, [&](BodyId id) {
+      got.push_back(id.index);
+      return true;
+    });
+    for (std::uint32_t i = 0; i < w.body_count(); ++i)
+      if (brute_distance(w.shape(BodyId{i}), w.pose(BodyId{i}), p) <= 0.0f) want.push_back(i);
+    REQUIRE(got == want);
+    contained += int(std::any_of(got.begin(), got.end(), [](std::uint32_t i) { return i != 0; }));
+    // project_point
+    float const reach = 1.5f;
+    auto const near = w.project_point(p, reach);
+    float best = std::numeric_limits<float>::infinity();
+    for (std::uint32_t i = 0; i < w.body_count(); ++i)
+      best =
+          std::min(best, std::max(0.0f, brute_distance(w.shape(BodyId{i}), w.pose(BodyId{i}), p)));
+    REQUIRE(near.has_value() == (best <= reach));
+    if (near) CHECK(near->distance == Approx(best).margin(1e-4));
+    // overlap_aabb: the grown boxes
+    Aabb3 const box = Aabb3::from_center_half_extents(p, Vec3{0.5f, 0.3f, 0.7f});
+    got.clear();
+    want.clear();
+    w.overlap_aabb(box, [&](BodyId id) {
+      got.push_back(id.index);
+      return true;
+    });
+    for (std::uint32_t i = 0; i < w.body_count(); ++i)
+      if (bool(w.aabb(BodyId{i}).grow(margin).intersects(box))) want.push_back(i);
+    REQUIRE(got == want);
+    // overlap_shape: a box at p, exact
+    Cuboid const probe{Vec3{0.5f, 0.3f, 0.7f}};
+    Iso3 const probe_pose = Iso3::from_translation(p);
+    got.clear();
+    want.clear();
+    w.overlap_shape(probe, probe_pose, [&](BodyId id) {
+      got.push_back(id.index);
+      return true;
+    });
+    for (std::uint32_t i = 0; i < w.body_count(); ++i) {
+      BodyShape const& s = w.shape(BodyId{i});
+      bool touch;
+      if (auto const* hs = std::get_if<HalfSpace>(&s)) {
+        Vec3 const n = w.pose(BodyId{i}).transform_vector(hs->normal);
+        touch = n.dot(probe_pose.transform_point(probe.core_support(-n)) -
+                      w.pose(BodyId{i}).translation) <= 0.0f;
+      } else {
+        touch = std::visit(
+            [&](auto const& b) {
+              if constexpr (std::is_same_v<std::decay_t<decltype(b)>, HalfSpace>) {
+                return false;
+              } else {
+                ClosestPoints const c = closest_points(probe, probe_pose, b, w.pose(BodyId{i}));
+                return bool(c.overlap) || c.distance <= 0.0f;
+              }
+            },
+            s);
+      }
+      if (touch) want.push_back(i);
+    }
+    REQUIRE(got == want);
+    overlapped += int(got.size() > 1);
+    // shape_cast: a sphere from p moving down 6 m
+    Sphere const ball{0.25f};
+    ShapeCastConfig cfg;
+    auto const cast = w.shape_cast(ball, probe_pose, {0.3f, -6.0f, 0.2f}, cfg);
+    float first = std::numeric_limits<float>::infinity();
+    std::uint32_t first_body = ~0u;
+    for (std::uint32_t i = 0; i < w.body_count(); ++i) {
+      BodyShape const& s = w.shape(BodyId{i});
+      float t = std::numeric_limits<float>::infinity();
+      if (auto const* hs = std::get_if<HalfSpace>(&s)) {
+        Vec3 const n = w.pose(BodyId{i}).transform_vector(hs->normal);
+        float const gap = n.dot(p - w.pose(BodyId{i}).translation) - ball.radius;
+        float const closing = -n.dot(Vec3{0.3f, -6.0f, 0.2f});
+        t = gap <= 0.0f ? 0.0f : (closing > 0.0f && gap <= closing ? gap / closing : t);
+      } else {
+        std::visit(
+            [&](auto const& b) {
+              if constexpr (!std::is_same_v<std::decay_t<decltype(b)>, HalfSpace>) {
+                ShapeCastHit const c = plume::shape_cast(ball, probe_pose, Vec3{0.3f, -6.0f, 0.2f},
+                                                         b, w.pose(BodyId{i}), cfg);
+                if (c.hit && !c.failed) t = c.toi;
+              }
+            },
+            s);
+      }
+      if (t < first) {
+        first = t;
+        first_body = i;
+      }
+    }
+    REQUIRE(cast.has_value() == std::isfinite(first));
+    if (cast) {
+      CHECK(cast->body.index == first_body);
+      CHECK(cast->toi == first);
+    }
+  }
+  CHECK(contained > 0);
+  CHECK(overlapped > 10);
+}
+
+TEST_CASE("world queries: filters, layers, fresh poses, both broad phases, bad input",
+          "[world][queries]") {
+  World w;
+  scenes::add_ground(w);
+  BodyId const a = w.create_body({.type = BodyType::static_body,
+                                  .pose = Iso3::from_translation({0, 1, 0}),
+                                  .shape = Cuboid{Vec3::splat(0.5f)},
+                                  .layers = {.memberships = 2, .filters = 0xffffffffu}})
+                       .id;
+  BodyId const b = w.create_body({.pose = Iso3::from_translation({0, 4, 0}),
+                                  .shape = Sphere{0.5f},
+                                  .layers = {.memberships = 4, .filters = ~2u}})
+                       .id;
+  Ray3 const down{{0, 10, 0}, {0, -1, 0}};
+  auto hit = w.ray_cast(down, 100.0f);
+  REQUIRE(hit);
+  CHECK(hit->body == b); // the falling sphere, before the step
+  CHECK(hit->toi == Approx(5.5f));
+  // mask, exclude and predicate
+  CHECK(w.ray_cast(down, 100.0f, {.mask = 2})->body == a);
+  BodyId const skip[] = {b};
+  CHECK(w.ray_cast(down, 100.0f, {.exclude = skip})->body == a);
+  CHECK(w.ray_cast(down, 100.0f, {.predicate = [&](BodyId id) { return id != b && id != a; }})
+            ->body == BodyId{0});
+  CHECK(!w.ray_cast(down, 100.0f, {.mask = 8}));
+  // Layers: the sphere (filters exclude layer 2) falls through the box onto the ground.
+  for (int s = 0; s < 180; ++s)
+    w.step(1.0f / 60.0f);
+  CHECK(w.pose(b).translation.y == Approx(0.5f).margin(0.05f));
+  // The queries see the pose after the steps.
+  hit = w.ray_cast({{0, 0.5f, -5}, {0, 0, 1}}, 100.0f);
+  REQUIRE(hit);
+  CHECK(((hit->body == b) || (hit->body == a)));
+  CHECK(hit->toi == Approx(4.5f).margin(0.06f));
+  // Shape casts: normals out of the body hit, toward the cast shape.
+  auto const onto_box = w.shape_cast(Sphere{0.2f}, Iso3::from_translation({0, 3, 0}), {0, -3, 0},
+                                     {}, {.exclude = skip});
+  REQUIRE(onto_box);
+  CHECK(onto_box->body == a);
+  CHECK(onto_box->toi == Approx(1.3f / 3.0f).margin(1e-3));
+  CHECK(onto_box->normal.y == Approx(1.0f).margin(1e-4));
+  CHECK(onto_box->point.y == Approx(1.5f).margin(1e-3));
+  auto const onto_ground =
+      w.shape_cast(Sphere{0.2f}, Iso3::from_translation({3, 3, 3}), {0, -3, 0});
+  REQUIRE(onto_ground);
+  CHECK(onto_ground->body == BodyId{0});
+  CHECK(onto_ground->toi == Approx(2.8f / 3.0f));
+  CHECK(onto_ground->normal.y == 1.0f);
+  CHECK(onto_ground->point.y == Approx(0.0f).margin(1e-5));
+  // set_layers: the pair now touches.
+  CHECK(w.set_layers(b, {}) == BodyError::none);
+  CHECK(w.set_layers(BodyId{99}, {}) == BodyError::bad_body);
+  CHECK(w.layers(b).memberships == 1);
+  // Bad input finds nothing and does not crash.
+  float const nan = std::numeric_limits<float>::quiet_NaN();
+  CHECK(!w.ray_cast({{nan, 0, 0}, {0, -1, 0}}, 10.0f));
+  CHECK(!w.ray_cast(down, -1.0f));
+  CHECK(!w.ray_cast(down, nan));
+  CHECK(!w.ray_cast({{0, 10, 0}, {0, 0, 0}}, 10.0f));
+  CHECK(!w.project_point({nan, 0, 0}, 1.0f));
+  CHECK(!w.shape_cast(Sphere{0.1f}, Iso3::from_translation({0, 5, 0}), {nan, 0, 0}));
+  CHECK(!w.shape_cast(HalfSpace{Vec3::Y}, Iso3{}, {0, -1, 0})); // not a convex query shape
+  int calls = 0;
+  w.point_query({nan, 0, 0}, [&](BodyId) { return ++calls > 0; });
+  w.overlap_aabb({Vec3::splat(nan), Vec3::splat(nan)}, [&](BodyId) { return ++calls > 0; });
+  CHECK(calls == 0);
+  // The ground (a half-space) contains every point below it.
+  std::vector<BodyId> in;
+  w.point_query({3, -1, 3}, [&](BodyId id) {
+    in.push_back(id);
+    return true;
+  });
+  CHECK(in == std::vector<BodyId>{BodyId{0}});
+
+  // Sort and sweep keeps no trees of its own for pairs; the queries still work.
+  World const s = random_scene(5, 60, BroadPhaseKind::sort_and_sweep);
+  World const t = random_scene(5, 60, BroadPhaseKind::bvh);
+  CHECK(s.state_hash() == t.state_hash());
+  for (int k = 0; k < 20; ++k) {
+    Ray3 const r{{float(k) - 10.0f, 8.0f, 0.5f}, {0.05f, -1.0f, 0.02f}};
+    auto const hs = s.ray_cast(r, 50.0f), ht = t.ray_cast(r, 50.0f);
+    REQUIRE(hs.has_value() == ht.has_value());
+    if (hs) CHECK(hs->body == ht->body);
+  }
+}
