@@ -16,9 +16,23 @@ void SortAndSweep::sort(std::span<Aabb3 const> boxes) {
 
 BvhBroadPhase::BvhBroadPhase() = default;
 
+void BvhBroadPhase::remove(std::uint32_t index) {
+  if (index >= slots_.size()) return;
+  Slot& s = slots_[index];
+  if (s.where == Where::static_tree) {
+    static_.remove(s.proxy);
+    static_changed_ = true;
+  } else if (s.where == Where::moving_tree) {
+    moving_.remove(s.proxy);
+  } else if (s.where == Where::unbounded) {
+    unbounded_.erase(std::find(unbounded_.begin(), unbounded_.end(), index));
+  }
+  s = Slot{};
+}
+
 void BvhBroadPhase::set_box(std::uint32_t index, Aabb3 const& box, bool moving) {
-  if (index == slots_.size()) slots_.emplace_back();
-  Slot& s = slots_.at(index);
+  if (index >= slots_.size()) slots_.resize(index + 1);
+  Slot& s = slots_[index];
   s.box = box;
   Where const want = !bool(box.is_valid()) ? Where::unbounded
                      : moving              ? Where::moving_tree

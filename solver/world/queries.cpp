@@ -64,12 +64,10 @@ Aabb3 clamp_box(Aabb3 const& b) { // infinite query boxes become the largest fin
 
 void World::sync_trees() const {
   if (trees_synced_) return;
-  for (auto i = std::uint32_t(bvh_.body_count()); i < bodies_.size(); ++i)
-    bvh_.set_box(i, grown_aabb(i), bodies_[i].type != BodyType::static_body);
   for (std::uint32_t i : moving_bodies_)
     bvh_.set_box(i, grown_aabb(i), true);
-  for (std::uint32_t i : stale_statics_)
-    bvh_.set_box(i, grown_aabb(i), false);
+  for (std::uint32_t i : stale_statics_) // every new or teleported static body
+    if (bodies_[i].alive) bvh_.set_box(i, grown_aabb(i), false);
   stale_statics_.clear();
   trees_synced_ = true;
 }
@@ -78,7 +76,7 @@ bool World::passes(std::uint32_t i, QueryFilter const& filter) const {
   if ((bodies_[i].layers.memberships & filter.mask) == 0) return false;
   for (BodyId const e : filter.exclude)
     if (e.index == i) return false;
-  return !filter.predicate || filter.predicate(BodyId{i});
+  return !filter.predicate || filter.predicate(BodyId{i, bodies_[i].generation});
 }
 
 void World::candidates(Aabb3 const& box, QueryFilter const& filter,
@@ -99,7 +97,7 @@ void World::candidates(Aabb3 const& box, QueryFilter const& filter,
 }
 
 BodyError World::set_layers(BodyId id, CollisionLayers const& layers) {
-  if (id.index >= bodies_.size()) return BodyError::bad_body;
+  if (!is_alive(id)) return BodyError::bad_body;
   bodies_[id.index].layers = layers;
   return BodyError::none;
 }
@@ -117,7 +115,7 @@ void World::ray_cast_all(Ray3 const& ray, float max_toi,
     if (!passes(i, filter)) return;
     Body const& b = bodies_[i];
     RayHit const h = cast_ray(b.shape, b.pose, ray, limit);
-    if (h.hit) hits.push_back({BodyId{i}, h.toi, ray.at(h.toi), h.normal});
+    if (h.hit) hits.push_back({BodyId{i, bodies_[i].generation}, h.toi, ray.at(h.toi), h.normal});
   };
   for (AabbTree const* tree : {&bvh_.static_tree(), &bvh_.moving_tree()})
     tree->ray_query(ray, limit, [&](ProxyId p, float) {
@@ -145,7 +143,7 @@ std::optional<WorldRayHit> World::ray_cast(Ray3 const& ray, float max_toi,
     RayHit const h = cast_ray(b.shape, b.pose, ray, limit);
     if (!h.hit || h.toi > limit) return;
     if (best && (h.toi > best->toi || (h.toi == best->toi && i > best->body.index))) return;
-    best = WorldRayHit{BodyId{i}, h.toi, ray.at(h.toi), h.normal};
+    best = WorldRayHit{BodyId{i, bodies_[i].generation}, h.toi, ray.at(h.toi), h.normal};
     limit = h.toi;
   };
   // Closest first: each tree's traversal skips boxes entered beyond the best toi so far.
@@ -183,7 +181,7 @@ std::optional<WorldShapeHit> World::shape_cast(BodyShape const& shape, Iso3 cons
     std::optional<WorldShapeHit> best;
     for (std::uint32_t i : near) {
       Body const& b = bodies_[i];
-      WorldShapeHit h{BodyId{i}};
+      WorldShapeHit h{BodyId{i, bodies_[i].generation}};
       bool hit = false;
       if (auto const* hs = std::get_if<HalfSpace>(&b.shape)) {
         WorldPlane const plane = world_plane(*hs, b.pose);
@@ -229,7 +227,7 @@ void World::overlap_aabb(Aabb3 const& box, std::function<bool(BodyId)> const& f,
   std::vector<std::uint32_t> near;
   candidates(box, filter, near);
   for (std::uint32_t i : near)
-    if (!f(BodyId{i})) return;
+    if (!f(BodyId{i, bodies_[i].generation})) return;
 }
 
 namespace {
@@ -264,7 +262,9 @@ void World::overlap_shape(BodyShape const& shape, Iso3 const& pose,
     std::vector<std::uint32_t> near;
     candidates(q.aabb(pose), filter, near);
     for (std::uint32_t i : near)
-      if (touches(q, pose, bodies_[i].shape, bodies_[i].pose) && !f(BodyId{i})) break;
+      if (touches(q, pose, bodies_[i].shape, bodies_[i].pose) &&
+          !f(BodyId{i, bodies_[i].generation}))
+        break;
     return 0;
   });
 }
@@ -276,7 +276,9 @@ void World::point_query(Vec3 const& point, std::function<bool(BodyId)> const& f,
   candidates({point, point}, filter, near);
   Iso3 const at = Iso3::from_translation(point);
   for (std::uint32_t i : near)
-    if (touches(Sphere{0.0f}, at, bodies_[i].shape, bodies_[i].pose) && !f(BodyId{i})) return;
+    if (touches(Sphere{0.0f}, at, bodies_[i].shape, bodies_[i].pose) &&
+        !f(BodyId{i, bodies_[i].generation}))
+      return;
 }
 
 std::optional<WorldPointHit> World::project_point(Vec3 const& point, float max_distance,
@@ -289,7 +291,7 @@ std::optional<WorldPointHit> World::project_point(Vec3 const& point, float max_d
   std::optional<WorldPointHit> best;
   for (std::uint32_t i : near) {
     Body const& b = bodies_[i];
-    WorldPointHit h{BodyId{i}};
+    WorldPointHit h{BodyId{i, bodies_[i].generation}};
     if (auto const* hs = std::get_if<HalfSpace>(&b.shape)) {
       WorldPlane const plane = world_plane(*hs, b.pose);
       float const d = plane.height(point);

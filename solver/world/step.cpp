@@ -28,8 +28,9 @@ Manifold collide(BodyShape const& a, Iso3 const& pa, BodyShape const& b, Iso3 co
 } // namespace
 
 Aabb3 World::grown_aabb(std::uint32_t i) const {
+  if (!bodies_[i].alive) return Aabb3{}; // EMPTY: overlaps nothing
   float const margin = config_.speculative_distance;
-  Aabb3 const box = aabb(BodyId{i});
+  Aabb3 const box = aabb(BodyId{i, bodies_[i].generation});
   return {box.min - Vec3::splat(margin), box.max + Vec3::splat(margin)};
 }
 
@@ -201,7 +202,7 @@ void World::finalize_bodies() {
       b.frozen = true; // stays where the step began, stopped
       s = BodyState{};
       newly_frozen.push_back(i);
-      frozen_.push_back(BodyId{i});
+      frozen_.push_back(BodyId{i, bodies_[i].generation});
       continue;
     }
     b.center = center;

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 
 namespace plume {
@@ -101,23 +103,73 @@ CreateBodyResult World::create_body(BodyDef const& def) {
     s.linear_velocity = def.linear_velocity;
     s.angular_velocity = def.angular_velocity;
   }
-  BodyId const id{std::uint32_t(bodies_.size())};
-  (b.type == BodyType::static_body ? stale_statics_ : moving_bodies_).push_back(id.index);
-  bodies_.push_back(std::move(b));
+  BodyId id;
+  if (!free_slots_.empty()) { // the last freed slot, at its next generation
+    id = {free_slots_.back(), bodies_[free_slots_.back()].generation};
+    free_slots_.pop_back();
+    b.generation = id.generation;
+    bodies_[id.index] = std::move(b);
+    states_[id.index] = s;
+  } else {
+    id = {std::uint32_t(bodies_.size()), 0};
+    bodies_.push_back(std::move(b));
+    states_.back() = s;
+    states_.push_back(BodyState{}); // the identity record moves up one
+    cache_.reserve_bodies(bodies_.size());
+  }
+  if (bodies_[id.index].type == BodyType::static_body)
+    stale_statics_.push_back(id.index);
+  else // kept in index order: the step visits moving bodies in it
+    moving_bodies_.insert(std::lower_bound(moving_bodies_.begin(), moving_bodies_.end(), id.index),
+                          id.index);
   trees_synced_ = false;
-  states_.back() = s;
-  states_.push_back(BodyState{});
-  cache_.reserve_bodies(bodies_.size());
   return {id, BodyError::none};
 }
 
+World::Body const& World::body(BodyId id) const {
+  if (!is_alive(id))
+    throw std::out_of_range("plume::World: the body id (slot " + std::to_string(id.index) +
+                            ", generation " + std::to_string(id.generation) +
+                            ") names no live body (never created, or destroyed)");
+  return bodies_[id.index];
+}
+
+BodyId World::body_id(std::uint32_t index) const {
+  if (index >= bodies_.size() || !bodies_[index].alive)
+    throw std::out_of_range("plume::World::body_id: slot " + std::to_string(index) +
+                            " holds no live body");
+  return {index, bodies_[index].generation};
+}
+
+BodyError World::destroy_body(BodyId id) {
+  if (!is_alive(id)) return BodyError::bad_body;
+  std::uint32_t const i = id.index;
+  std::uint32_t const one[] = {i};
+  cache_.remove_bodies(one);
+  bvh_.remove(i);
+  auto const drop = [i](std::vector<std::uint32_t>& v) {
+    v.erase(std::remove(v.begin(), v.end(), i), v.end());
+  };
+  drop(moving_bodies_);
+  drop(stale_statics_);
+  frozen_.erase(std::remove(frozen_.begin(), frozen_.end(), id), frozen_.end());
+  Body& b = bodies_[i];
+  Body dead;
+  dead.alive = false;
+  dead.generation = b.generation + 1;
+  b = std::move(dead);
+  states_[i] = BodyState{};
+  free_slots_.push_back(i);
+  return BodyError::none;
+}
+
 Aabb3 World::aabb(BodyId id) const {
-  Body const& b = bodies_.at(id.index);
+  Body const& b = body(id);
   return shape_aabb(b.shape, b.pose);
 }
 
 BodyError World::set_pose(BodyId id, Iso3 const& pose) {
-  if (id.index >= bodies_.size()) return BodyError::bad_body;
+  if (!is_alive(id)) return BodyError::bad_body;
   float const qlen = pose.rotation.length();
   if (!pose.is_finite() || !(qlen > 0.0f) || !std::isfinite(qlen)) return BodyError::non_finite;
   Body& b = bodies_[id.index];
@@ -129,7 +181,7 @@ BodyError World::set_pose(BodyId id, Iso3 const& pose) {
 }
 
 BodyError World::set_velocity(BodyId id, Vec3 const& linear, Vec3 const& angular) {
-  if (id.index >= bodies_.size()) return BodyError::bad_body;
+  if (!is_alive(id)) return BodyError::bad_body;
   if (!finite(linear) || !finite(angular)) return BodyError::non_finite;
   if (bodies_[id.index].type == BodyType::static_body) return BodyError::none;
   states_[id.index].linear_velocity = linear;
@@ -153,6 +205,7 @@ double World::kinetic_energy() const {
 std::uint64_t World::state_hash() const {
   std::uint64_t h = 1469598103934665603ull;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
+    if (!bodies_[i].alive) continue;
     Iso3 const& p = bodies_[i].pose;
     for (float x : {p.translation.x, p.translation.y, p.translation.z, p.rotation.x, p.rotation.y,
                     p.rotation.z, p.rotation.w})

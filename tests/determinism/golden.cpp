@@ -405,6 +405,41 @@ std::uint64_t world_battery() {
   return w.state_hash();
 }
 
+/// Destroying and creating bodies mid-run (slots reused at their next generation), then the
+/// world's queries: the state and the rays' hits (body, toi bits) hashed together.
+template <class T>
+std::uint64_t world_edit_battery() {
+  World w;
+  add_ground(w);
+  std::vector<BodyId> const boxes = add_box_pyramid(w, 5);
+  stream st;
+  for (int s = 0; s < 40; ++s)
+    w.template step_with<T>(1.0f / 60.0f);
+  for (std::size_t k = 0; k < boxes.size(); k += 3)
+    w.destroy_body(boxes[k]);
+  for (int s = 0; s < 30; ++s)
+    w.template step_with<T>(1.0f / 60.0f);
+  for (int i = 0; i < 6; ++i) {
+    BodyDef def;
+    def.shape = i % 2 ? BodyShape{Sphere{0.3f}} : BodyShape{Cuboid{{0.3f, 0.2f, 0.4f}}};
+    def.pose =
+        Iso3{st.quat<float>(), Vec3{0.5f * float(i) - 1.5f, 6.0f + float(i), 0.1f * float(i)}};
+    def.linear_velocity = st.vec3<float>(1);
+    w.create_body(def);
+  }
+  for (int s = 0; s < 90; ++s)
+    w.template step_with<T>(1.0f / 60.0f);
+  std::uint64_t h = w.state_hash();
+  for (int k = 0; k < 16; ++k) {
+    auto const hit =
+        w.ray_cast({{float(k) * 0.5f - 4.0f, 10.0f, 0.25f}, {0.05f, -1.0f, 0.0f}}, 50.0f);
+    std::uint32_t const bits =
+        hit ? std::bit_cast<std::uint32_t>(hit->toi) ^ (hit->body.index << 20) : 0u;
+    h = (h ^ bits) * 1099511628211ull;
+  }
+  return h;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -440,6 +475,7 @@ int main(int argc, char** argv) {
   battery64("collision_f64", f64_widths{}, []<class T>() { return collision_battery<T>(); });
   record("contact_f32", contact_battery<float>(), {});
   battery("world_f32", f32_widths{}, []<class T>() { return world_battery<T>(); });
+  battery("world_edit_f32", f32_widths{}, []<class T>() { return world_edit_battery<T>(); });
   record("contact_f64", contact_battery<double>(), {});
   if (argc == 3 && !std::strcmp(argv[1], "--check")) {
     std::ifstream f(argv[2]);

@@ -348,3 +348,101 @@ TEST_CASE("world: a kinematic body moves at its velocity and pushes dynamic ones
   CHECK(w.linear_velocity(k).x == 1.0f);                       // never pushed back
   CHECK(w.pose(b).translation.x > w.pose(k).translation.x + 1.0f - slop);
 }
+
+TEST_CASE("world: destroyed bodies leave no trace; stale ids never reach the slot's new body",
+          "[world][destroy]") {
+  for (BroadPhaseKind kind : {BroadPhaseKind::bvh, BroadPhaseKind::sort_and_sweep}) {
+    WorldConfig cfg;
+    cfg.broad_phase = kind;
+    World w(cfg);
+    add_ground(w);
+    BodyId const base = w.create_body({.type = BodyType::static_body,
+                                       .pose = Iso3::from_translation({0, 0.5f, 0}),
+                                       .shape = Cuboid{Vec3::splat(0.5f)}})
+                            .id;
+    BodyId const top = w.create_body({.pose = Iso3::from_translation({0, 1.5f, 0}),
+                                      .shape = Cuboid{Vec3::splat(0.5f)}})
+                           .id;
+    for (int s = 0; s < 60; ++s)
+      w.step(dt);
+    CHECK(w.pose(top).translation.y == Approx(1.5f).margin(0.02f)); // resting on the base
+    CHECK(!w.contacts().empty());
+    REQUIRE(w.destroy_body(base) == BodyError::none);
+    CHECK(!w.is_alive(base));
+    CHECK(w.alive_count() == 2);
+    CHECK(w.body_count() == 3);
+    for (Contact const& c : w.contacts()) // its contacts ended with it
+      CHECK((c.body_a != base.index && c.body_b != base.index));
+    CHECK_THROWS_AS(w.pose(base), std::out_of_range);
+    CHECK_THROWS_AS(w.shape(base), std::out_of_range);
+    CHECK_THROWS_AS(w.linear_velocity(base), std::out_of_range);
+    CHECK_THROWS_AS(w.body_id(base.index), std::out_of_range);
+    CHECK(w.destroy_body(base) == BodyError::bad_body); // twice
+    CHECK(w.set_pose(base, Iso3{}) == BodyError::bad_body);
+    CHECK(w.set_velocity(base, {}, {}) == BodyError::bad_body);
+    CHECK(w.set_layers(base, {}) == BodyError::bad_body);
+    CHECK(w.destroy_body(BodyId{77}) == BodyError::bad_body);
+    CHECK(w.destroy_body(BodyId{}) == BodyError::bad_body);
+    // Nothing holds the top box up now: it falls to the ground.
+    for (int s = 0; s < 90; ++s)
+      w.step(dt);
+    CHECK(w.pose(top).translation.y == Approx(0.5f).margin(0.02f));
+    // Queries no longer see the destroyed body.
+    auto const hit = w.ray_cast({{0, 5, 0}, {0, -1, 0}}, 10.0f);
+    REQUIRE(hit);
+    CHECK(hit->body == top);
+    // The slot is reused at the next generation; the old id still names nothing.
+    BodyId const again = w.create_body({.type = BodyType::static_body,
+                                        .pose = Iso3::from_translation({5, 0.5f, 0}),
+                                        .shape = Sphere{0.5f}})
+                             .id;
+    CHECK(again.index == base.index);
+    CHECK(again.generation == base.generation + 1);
+    CHECK(!w.is_alive(base));
+    CHECK(w.is_alive(again));
+    CHECK(w.body_id(again.index) == again);
+    CHECK_THROWS_AS(w.pose(base), std::out_of_range);
+    CHECK(w.pose(again).translation.x == 5.0f);
+    auto const on_new = w.ray_cast({{5, 5, 0}, {0, -1, 0}}, 10.0f);
+    REQUIRE(on_new);
+    CHECK(on_new->body == again);
+    // A dynamic body created into a reused slot is simulated.
+    REQUIRE(w.destroy_body(again) == BodyError::none);
+    BodyId const ball =
+        w.create_body({.pose = Iso3::from_translation({-3, 3, 0}), .shape = Sphere{0.5f}}).id;
+    CHECK(ball.index == base.index);
+    for (int s = 0; s < 120; ++s)
+      w.step(dt);
+    CHECK(w.pose(ball).translation.y == Approx(0.5f).margin(0.02f));
+  }
+}
+
+TEST_CASE("world: destroying and creating mid-run gives the same world at every width and in "
+          "both broad phases",
+          "[world][destroy][determinism]") {
+  auto const run = []<class T>(std::type_identity<T>, BroadPhaseKind kind) {
+    WorldConfig cfg;
+    cfg.broad_phase = kind;
+    World w(cfg);
+    add_ground(w);
+    std::vector<BodyId> const boxes = add_box_pyramid(w, 4);
+    std::vector<std::uint64_t> hashes;
+    for (int s = 0; s < 120; ++s) {
+      if (s == 20)
+        for (std::size_t k = 1; k < boxes.size(); k += 4)
+          REQUIRE(w.destroy_body(boxes[k]) == BodyError::none);
+      if (s == 40)
+        for (int i = 0; i < 4; ++i)
+          w.create_body({.pose = Iso3::from_translation({float(i) - 1.5f, 5.0f, 0.0f}),
+                         .shape = Sphere{0.3f}});
+      if (s == 60) w.destroy_body(w.body_id(std::uint32_t(boxes[2].index)));
+      w.template step_with<T>(dt);
+      hashes.push_back(w.state_hash());
+    }
+    return hashes;
+  };
+  auto const scalar = run(std::type_identity<float>{}, BroadPhaseKind::bvh);
+  CHECK(run(std::type_identity<float>{}, BroadPhaseKind::sort_and_sweep) == scalar);
+  for_each_type<f32_widths>(
+      [&]<class T>() { CHECK(run(std::type_identity<T>{}, BroadPhaseKind::bvh) == scalar); });
+}

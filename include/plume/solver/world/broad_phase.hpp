@@ -74,13 +74,14 @@ private:
   std::vector<Proxy> proxies_; ///< the boxes by (min.x, index)
 };
 
-/// The BVH broad phase (see above). Bodies are numbered 0, 1, ... in the order the world
-/// creates them; set_box() is called for a new body first (index == body_count()).
+/// The BVH broad phase (see above), over bodies numbered by the world's slots.
 class BvhBroadPhase {
 public:
   BvhBroadPhase();
 
   std::size_t body_count() const noexcept { return slots_.size(); }
+  /// Body `index` leaves the broad phase (nothing if it is not in it).
+  void remove(std::uint32_t index);
   /// Body `index` now has the (grown) box `box`; `moving`: kinematic or dynamic. A box that
   /// is not a valid tree box (an infinite coordinate, as a half-space's; or NaN, or min > max)
   /// puts the body on the unbounded list: it never queries, and each querier tests it exactly.

@@ -30,7 +30,8 @@
 // turns non-finite during a step (absurd velocities) is put back where the step began,
 // stopped and frozen: it then acts as a static body, and frozen_bodies() reports it.
 // step() ignores dt <= 0 or non-finite. Accessors taking a BodyId throw std::out_of_range
-// for an id that names no body; setters return BodyError::bad_body instead.
+// for an id that names no live body (never created, or destroyed: ids carry a generation);
+// setters and destroy_body() return BodyError::bad_body instead.
 // Out of scope for this version (named, not stubbed): sleeping (every dynamic body is
 // simulated each step; a per-body flag would slot in where frozen bodies are skipped) and
 // compound bodies (one shape per body).
@@ -114,8 +115,12 @@ enum class BodyError : std::uint8_t {
 };
 std::string_view to_string(BodyError e) noexcept;
 
+/// A body: its slot and the slot's generation. destroy_body() frees the slot for reuse by a
+/// later create_body() with the next generation, so an id kept past its body's destruction
+/// names no body (accessors throw, setters return bad_body), never the slot's new body.
 struct BodyId {
   std::uint32_t index = ~std::uint32_t(0);
+  std::uint32_t generation = 0;
   bool valid() const noexcept { return index != ~std::uint32_t(0); }
   friend bool operator==(BodyId, BodyId) = default;
 };
@@ -206,16 +211,34 @@ public:
 
   CreateBodyResult create_body(BodyDef const& def);
 
+  /// Removes the body and its contacts now; its slot is reused by a later create_body().
+  /// bad_body for an id that names no live body (the world is unchanged).
+  BodyError destroy_body(BodyId id);
+  /// True when the id names a live body (its slot's current generation).
+  bool is_alive(BodyId id) const noexcept {
+    return id.index < bodies_.size() && bodies_[id.index].alive &&
+           bodies_[id.index].generation == id.generation;
+  }
+  /// The id of the live body in slot `index` (std::out_of_range if the slot is free).
+  BodyId body_id(std::uint32_t index) const;
+
+  /// Slots: one more than the largest index ever used, destroyed bodies included.
   std::size_t body_count() const noexcept { return bodies_.size(); }
-  BodyType type(BodyId id) const { return bodies_.at(id.index).type; }
+  /// Live bodies.
+  std::size_t alive_count() const noexcept { return bodies_.size() - free_slots_.size(); }
+  BodyType type(BodyId id) const { return body(id).type; }
   /// The shape's frame in the world.
-  Iso3 pose(BodyId id) const { return bodies_.at(id.index).pose; }
+  Iso3 pose(BodyId id) const { return body(id).pose; }
   /// World centre of mass.
-  Vec3 center_of_mass(BodyId id) const { return bodies_.at(id.index).center; }
-  Vec3 linear_velocity(BodyId id) const { return states_.at(id.index).linear_velocity; }
-  Vec3 angular_velocity(BodyId id) const { return states_.at(id.index).angular_velocity; }
-  float mass(BodyId id) const { return bodies_.at(id.index).mass; }
-  BodyShape const& shape(BodyId id) const { return bodies_.at(id.index).shape; }
+  Vec3 center_of_mass(BodyId id) const { return body(id).center; }
+  Vec3 linear_velocity(BodyId id) const {
+    return (void)body(id), states_[id.index].linear_velocity;
+  }
+  Vec3 angular_velocity(BodyId id) const {
+    return (void)body(id), states_[id.index].angular_velocity;
+  }
+  float mass(BodyId id) const { return body(id).mass; }
+  BodyShape const& shape(BodyId id) const { return body(id).shape; }
   /// The body's AABB at its pose (infinite for a half-space).
   Aabb3 aabb(BodyId id) const;
 
@@ -223,7 +246,7 @@ public:
   BodyError set_pose(BodyId id, Iso3 const& pose);
   BodyError set_velocity(BodyId id, Vec3 const& linear, Vec3 const& angular);
 
-  CollisionLayers layers(BodyId id) const { return bodies_.at(id.index).layers; }
+  CollisionLayers layers(BodyId id) const { return body(id).layers; }
   /// New layers, effective from the next step (contacts that the layers now forbid end then).
   BodyError set_layers(BodyId id, CollisionLayers const& layers);
 
@@ -265,7 +288,7 @@ public:
 
   /// Bodies frozen because their state turned non-finite (ever, in freezing order).
   std::span<BodyId const> frozen_bodies() const noexcept { return frozen_; }
-  bool is_frozen(BodyId id) const { return bodies_.at(id.index).frozen; }
+  bool is_frozen(BodyId id) const { return body(id).frozen; }
 
   /// Advances dt seconds with the widest batch the build has.
   void step(float dt);
@@ -301,9 +324,14 @@ private:
     float friction = 0.6f, restitution = 0.0f;
     float linear_damping = 0.0f, angular_damping = 0.0f, gravity_scale = 1.0f;
     CollisionLayers layers{};
-    bool moves() const noexcept { return !frozen && type != BodyType::static_body; }
-    bool is_dynamic() const noexcept { return !frozen && type == BodyType::dynamic; }
+    bool alive = true;
+    std::uint32_t generation = 0;
+    bool moves() const noexcept { return alive && !frozen && type != BodyType::static_body; }
+    bool is_dynamic() const noexcept { return alive && !frozen && type == BodyType::dynamic; }
   };
+
+  /// The live body `id` names; std::out_of_range otherwise.
+  Body const& body(BodyId id) const;
 
   // The stages of a step, in order (solver/world/step.cpp).
   void find_pairs();
@@ -335,12 +363,14 @@ private:
   mutable bool trees_synced_ = false;
   std::vector<Aabb3> boxes_;                 ///< sort and sweep: this step's grown AABBs, by body
   std::vector<std::uint32_t> moving_bodies_; ///< every kinematic and dynamic body, by index
-  mutable std::vector<std::uint32_t> stale_statics_; ///< statics created or moved since the last sync
+  mutable std::vector<std::uint32_t>
+      stale_statics_; ///< statics created or moved since the last sync
   std::vector<std::uint32_t> dynamic_queriers_, kinematic_queriers_;
   std::vector<std::uint64_t> pairs_; ///< this step's overlapping pairs (body_pair_key)
   std::vector<PairManifold> found_;  ///< this step's manifolds, by pair
   ContactCache cache_;
   std::vector<BodyId> frozen_;
+  std::vector<std::uint32_t> free_slots_; ///< destroyed bodies' slots, reused last-freed first
   StepProfile profile_;
   std::array<std::size_t, ConstraintGraph::color_count + 1> color_sizes_{};
 };
