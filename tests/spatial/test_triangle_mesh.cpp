@@ -319,11 +319,13 @@ TEST_CASE("mesh build rejects bad input with its error", "[mesh][build]") {
   CHECK(oob.bad_item == 5);
   CHECK(oob.mesh.empty());
   for (float const bad : {std::numeric_limits<float>::quiet_NaN(), inf, -inf}) {
-    std::vector<Vec3> w = v;
-    w[2].y = bad;
-    auto const r = err(w, I{0, 1, 3});
-    CHECK(r.error == MeshError::non_finite_vertex); // even if no triangle uses it
-    CHECK(r.bad_item == 2);
+    for (std::size_t at : {std::size_t(2), v.size() - 1}) {
+      std::vector<Vec3> w = v;
+      w[at].y = bad;
+      auto const r = err(w, I{0, 1, 2});
+      CHECK(r.error == MeshError::non_finite_vertex); // even if no triangle uses it
+      CHECK(r.bad_item == at);
+    }
   }
   auto const all = err(v, I{0, 0, 1, 0, 1, 1});
   CHECK(all.error == MeshError::all_degenerate);
@@ -335,8 +337,8 @@ TEST_CASE("mesh build rejects bad input with its error", "[mesh][build]") {
 }
 
 TEST_CASE("mesh build drops and counts degenerate triangles", "[mesh][build]") {
-  // Triangles: good, repeated vertex, collinear, good, tiny but nondegenerate.
-  std::vector<Vec3> const v{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}, {1, 1, 0}, {0, 0, 1e-3f}};
+  // Triangles: good, repeated vertex, collinear, good, tiny (|cross|^2 = 1e-24) but not degenerate.
+  std::vector<Vec3> const v{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}, {1, 1, 0}, {0, 0, 1e-12f}};
   std::vector<std::uint32_t> const i{0, 1, 2, 0, 0, 1, 0, 1, 3, 1, 4, 2, 0, 1, 5};
   auto const r = TriangleMesh::build(v, i);
   REQUIRE(r.ok());
