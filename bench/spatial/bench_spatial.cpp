@@ -15,6 +15,15 @@
 //                                         rtcCommitScene; items = spheres.
 //   spatial_tree/stress10k/<mode>        one frame per iteration: 10,000 boxes on a grid move
 //                                         (random walk), then optimize(<mode>); items = proxies.
+//   spatial_ray/terrain1m/plume/x<W>     closest hit of each ray on a TriangleMesh of 999,698
+//                                         triangles (TriangleMesh::ray_cast_with a GWideBvh<T> of
+//                                         its tree, watertight triangle casts at the leaves).
+//   spatial_ray/terrain1m/embree/x1      rtcIntersect1, RTC_GEOMETRY_TYPE_TRIANGLE with the same
+//                                         vertices and indices.
+//   spatial_build/terrain1m/plume/bvh    TriangleMesh::build (validation, adjacency, tree insert
+//                                         + rebuild(), the WideBvh copy); items = triangles.
+//   spatial_build/terrain1m/embree       a new scene with the triangle geometry to
+//                                         rtcCommitScene; items = triangles.
 //   spatial_ray/stress10k_after_updates/plume/x<W>  rays against the stress tree after 300
 //                                         frames of reinsert updates; counters compare it with a
 //                                         fresh rebuild of the same boxes.
@@ -22,6 +31,11 @@
 // Scene: 100,000 spheres, centres uniform in [-10, 10]^3, radii 0.03..0.07; R = 4096 rays from
 // a sphere of radius 25 around the cube aimed at points uniform in [-9, 9]^3 (incoherent:
 // consecutive rays share nothing). About 4 in 5 hit.
+// Terrain: a 708 x 708 vertex grid of spacing 0.1 over x, z, two triangles per cell, heights
+// from four octaves of sines (amplitudes 4, 1.5, 0.5, 0.15); R rays from 20 to 40 above the
+// terrain aimed down at uniform points of it, one in eight grazing (|dir.y| about 0.02 to 0.1
+// of the horizontal). The terrain's hits are checked the same way (same triangle, or toi
+// within 1e-4 relative).
 // Embree: one device with threads=1 (plume is single threaded), scene and geometry at
 // Embree's default build quality (RTC_BUILD_QUALITY_MEDIUM) and default scene flags.
 // Counters: hit_fraction; nodes, nodes_per_ray and leaf_casts_per_ray (the wide tree's size and
@@ -432,6 +446,211 @@ void register_builds() {
 #endif
 }
 
+// ------------------------------------------------------------------ the terrain
+
+constexpr std::uint32_t terrain_side = 708; // vertices per side: 2 x 707^2 = 999,698 triangles
+
+struct terrain_scene {
+  std::vector<Vec3> vertices;
+  std::vector<std::uint32_t> indices;
+  plume::TriangleMesh mesh;
+  std::vector<Vec3> origin, dir;
+  std::vector<TreeRayHit> reference; // width 1; proxy = input triangle index
+
+  terrain_scene() {
+    std::uint32_t const n = terrain_side;
+    float const h = 0.1f;
+    for (std::uint32_t z = 0; z < n; ++z)
+      for (std::uint32_t x = 0; x < n; ++x)
+        vertices.push_back({float(x) * h, height(float(x) * h, float(z) * h), float(z) * h});
+    for (std::uint32_t z = 0; z + 1 < n; ++z)
+      for (std::uint32_t x = 0; x + 1 < n; ++x) {
+        std::uint32_t const a = z * n + x, b = a + 1, c = a + n, d = c + 1;
+        indices.insert(indices.end(), {a, c, b, b, c, d});
+      }
+    auto r = plume::TriangleMesh::build(vertices, indices);
+    if (!r.ok())
+      throw std::logic_error(std::string("bench_spatial: terrain: ") + to_string(r.error));
+    mesh = std::move(r.mesh);
+    std::mt19937 g(4711);
+    std::uniform_real_distribution<float> u(0, 1);
+    float const extent = float(n - 1) * h;
+    for (std::size_t i = 0; i < R; ++i) {
+      Vec3 const aim{extent * u(g), 0, extent * u(g)};
+      Vec3 const at{aim.x, height(aim.x, aim.z), aim.z};
+      float const phi = 6.2831853f * u(g);
+      Vec3 d;
+      if (i % 8 == 7) { // grazing
+        d = Vec3{std::cos(phi), -(0.02f + 0.08f * u(g)), std::sin(phi)};
+      } else {
+        float const tilt = 0.8f * u(g);
+        d = Vec3{tilt * std::cos(phi), -1, tilt * std::sin(phi)};
+      }
+      d = d.normalize();
+      float const back = (20.0f + 20.0f * u(g)) / -d.y;
+      origin.push_back(i % 8 == 7 ? at - d * 30.0f : at - d * back);
+      dir.push_back(d);
+    }
+    reference.resize(R);
+    cast(plume::GWideBvh<float>(mesh.tree()), reference.data());
+  }
+  static float height(float x, float z) {
+    return 4.0f * std::sin(0.11f * x) * std::cos(0.13f * z) +
+           1.5f * std::sin(0.37f * x + 0.21f * z) * std::cos(0.29f * z - 0.17f * x) +
+           0.5f * std::sin(1.3f * x) * std::sin(1.1f * z) + 0.15f * std::cos(3.7f * x + 2.9f * z);
+  }
+  template <class T>
+  void cast(plume::GWideBvh<T> const& bvh, TreeRayHit* out) const {
+    plume_bench_cast_terrain(mesh, bvh, origin.data(), dir.data(), out);
+  }
+  template <class T>
+  [[gnu::noinline]] static void
+  plume_bench_cast_terrain(plume::TriangleMesh const& m, plume::GWideBvh<T> const& bvh,
+                           Vec3 const* o, Vec3 const* d, TreeRayHit* out) {
+    for (std::size_t i = 0; i < R; ++i) {
+      plume::MeshRayHit const h = m.ray_cast_with(bvh, plume::Ray3{o[i], d[i]}, max_toi_all);
+      TreeRayHit t;
+      if (h.hit()) t.proxy = m.source_triangle(h.triangle), t.toi = h.toi;
+      out[i] = t;
+    }
+  }
+};
+
+terrain_scene const& terrain() {
+  static terrain_scene const t;
+  return t;
+}
+
+#if PLUME_HAVE_EMBREE
+RTCScene embree_commit_triangles(std::span<Vec3 const> v, std::span<std::uint32_t const> idx) {
+  RTCScene scn = rtcNewScene(embree());
+  RTCGeometry geom = rtcNewGeometry(embree(), RTC_GEOMETRY_TYPE_TRIANGLE);
+  auto* vb = static_cast<float*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), v.size()));
+  for (std::size_t i = 0; i < v.size(); ++i)
+    vb[3 * i + 0] = v[i].x, vb[3 * i + 1] = v[i].y, vb[3 * i + 2] = v[i].z;
+  auto* ib = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+      geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), idx.size() / 3));
+  std::copy(idx.begin(), idx.end(), ib);
+  rtcCommitGeometry(geom);
+  rtcAttachGeometry(scn, geom);
+  rtcReleaseGeometry(geom);
+  rtcCommitScene(scn);
+  return scn;
+}
+
+struct embree_terrain {
+  RTCScene scn;
+  std::vector<TreeRayHit> hits;
+  explicit embree_terrain(terrain_scene const& t)
+      : scn(embree_commit_triangles(t.vertices, t.indices)), hits(R) {
+    cast_all(t, hits.data());
+  }
+  ~embree_terrain() { rtcReleaseScene(scn); }
+  embree_terrain(embree_terrain const&) = delete;
+  embree_terrain& operator=(embree_terrain const&) = delete;
+  void cast_all(terrain_scene const& t, TreeRayHit* out) const {
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    for (std::size_t i = 0; i < R; ++i) {
+      RTCRayHit rh{};
+      rh.ray.org_x = t.origin[i].x, rh.ray.org_y = t.origin[i].y, rh.ray.org_z = t.origin[i].z;
+      rh.ray.dir_x = t.dir[i].x, rh.ray.dir_y = t.dir[i].y, rh.ray.dir_z = t.dir[i].z;
+      rh.ray.tnear = 0, rh.ray.tfar = inf;
+      rh.ray.mask = ~0u, rh.ray.flags = 0;
+      rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(scn, &ctx, &rh);
+      TreeRayHit h;
+      if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) h.proxy = rh.hit.primID, h.toi = rh.ray.tfar;
+      out[i] = h;
+    }
+  }
+};
+
+embree_terrain const& terrain_embree() {
+  static embree_terrain const e(terrain());
+  return e;
+}
+#endif
+
+template <class T>
+void register_terrain_rays() {
+  std::string const name = "spatial_ray/terrain1m/plume/x" + std::to_string(plume::lanes_v<T>);
+  benchmark::RegisterBenchmark(name.c_str(), [](benchmark::State& st) {
+    terrain_scene const& t = terrain();
+    plume::GWideBvh<T> const bvh(t.mesh.tree());
+    std::vector<TreeRayHit> hits(R);
+    t.cast(bvh, hits.data());
+    if (std::string const bad = mismatches(hits, t.reference); !bad.empty()) {
+      st.SkipWithError(("hits differ from width 1: " + bad).c_str());
+      return;
+    }
+#if PLUME_HAVE_EMBREE
+    if (std::string const bad = mismatches(hits, terrain_embree().hits); !bad.empty()) {
+      st.SkipWithError(("hits differ from Embree: " + bad).c_str());
+      return;
+    }
+#endif
+    plume::bench::run_items(st, std::int64_t(R), [&] {
+      t.cast(bvh, hits.data());
+      benchmark::DoNotOptimize(hits.data());
+      benchmark::ClobberMemory();
+    });
+    st.counters["hit_fraction"] = double(hit_count(hits)) / double(R);
+    st.counters["nodes"] = double(bvh.node_count());
+  });
+}
+
+void register_terrain() {
+  plume::bench::for_each_f32_width([]<class T>() { register_terrain_rays<T>(); });
+#if PLUME_HAVE_EMBREE
+  benchmark::RegisterBenchmark("spatial_ray/terrain1m/embree/x1", [](benchmark::State& st) {
+    terrain_scene const& t = terrain();
+    embree_terrain const& e = terrain_embree();
+    if (std::string const bad = mismatches(e.hits, t.reference); !bad.empty()) {
+      st.SkipWithError(("Embree's hits differ from plume: " + bad).c_str());
+      return;
+    }
+    std::vector<TreeRayHit> hits(R);
+    plume::bench::run_items(st, std::int64_t(R), [&] {
+      e.cast_all(t, hits.data());
+      benchmark::DoNotOptimize(hits.data());
+      benchmark::ClobberMemory();
+    });
+    st.counters["hit_fraction"] = double(hit_count(hits)) / double(R);
+  });
+#endif
+  benchmark::RegisterBenchmark("spatial_build/terrain1m/plume/bvh",
+                               [](benchmark::State& st) {
+                                 terrain_scene const& t = terrain();
+                                 std::size_t n = 0;
+                                 plume::bench::run_items(
+                                     st, std::int64_t(t.indices.size() / 3), [&] {
+                                       auto r = plume::TriangleMesh::build(t.vertices, t.indices);
+                                       n = r.triangles;
+                                       benchmark::DoNotOptimize(r.mesh.bvh().node_count());
+                                     });
+                                 auto const stats = t.mesh.tree().stats();
+                                 st.counters["height"] = double(stats.height);
+                                 st.counters["area_ratio"] = double(stats.area_ratio);
+                                 st.counters["triangles"] = double(n);
+                               })
+      ->Unit(benchmark::kMillisecond)
+      ->Iterations(3);
+#if PLUME_HAVE_EMBREE
+  benchmark::RegisterBenchmark("spatial_build/terrain1m/embree", [](benchmark::State& st) {
+    terrain_scene const& t = terrain();
+    for (auto _ : st) {
+      RTCScene const scn = embree_commit_triangles(t.vertices, t.indices);
+      st.PauseTiming();
+      rtcReleaseScene(scn);
+      st.ResumeTiming();
+    }
+    st.SetItemsProcessed(std::int64_t(st.iterations()) * std::int64_t(t.indices.size() / 3));
+  })->Unit(benchmark::kMillisecond);
+#endif
+}
+
 // ------------------------------------------------------------------ the stress scene
 
 /// xorshift32: cheap enough not to show in a frame's time.
@@ -617,6 +836,7 @@ int main(int argc, char** argv) {
   register_embree_rays();
 #endif
   register_builds();
+  register_terrain();
   register_stress();
   plume::bench::for_each_f32_width([]<class T>() { register_updated_rays<T>(); });
   return plume::bench::run_benchmarks(argc, argv);

@@ -5,4 +5,5 @@
 #pragma once
 
 #include <plume/spatial/aabb_tree.hpp>
+#include <plume/spatial/triangle_mesh.hpp>
 #include <plume/spatial/wide_bvh.hpp>

@@ -1,0 +1,264 @@
+// TriangleMesh: validation, degenerate-triangle removal, adjacency and edge convexity, the
+// BVH build and the closest-point query. The contract is in
+// include/plume/spatial/triangle_mesh.hpp.
+#include <plume/spatial/triangle_mesh.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+
+namespace plume {
+
+char const* to_string(MeshError e) noexcept {
+  switch (e) {
+  case MeshError::none:
+    return "none";
+  case MeshError::empty:
+    return "empty: no vertices or no indices";
+  case MeshError::index_count_not_multiple_of_3:
+    return "index count not a multiple of 3";
+  case MeshError::index_out_of_range:
+    return "index out of range";
+  case MeshError::non_finite_vertex:
+    return "non-finite vertex";
+  case MeshError::all_degenerate:
+    return "every triangle is degenerate";
+  case MeshError::too_many_triangles:
+    return "too many triangles (2^31 or more)";
+  }
+  return "unknown";
+}
+
+namespace {
+
+bool finite(Vec3 const& v) noexcept {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+/// Per-edge adjacency and convexity (see the header): edges sorted by their vertex pair, then
+/// by (triangle, edge), so the grouping does not depend on anything but the input.
+void classify_edges(std::vector<std::array<std::uint32_t, 3>> const& idx,
+                    std::vector<Vec3> const& verts, std::vector<Vec3> const& normals,
+                    float flat_cosine, std::vector<TriangleEdges>& out) {
+  std::size_t const n = idx.size();
+  out.assign(n, TriangleEdges{});
+  struct half_edge {
+    std::uint64_t key; // lower vertex << 32 | higher vertex
+    std::uint32_t ref; // triangle * 3 + edge
+  };
+  std::vector<half_edge> e;
+  e.reserve(3 * n);
+  for (std::size_t t = 0; t < n; ++t)
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      std::uint32_t const p = idx[t][k], q = idx[t][(k + 1) % 3];
+      std::uint64_t const lo = std::min(p, q), hi = std::max(p, q);
+      e.push_back({lo << 32 | hi, std::uint32_t(t * 3 + k)});
+    }
+  std::sort(e.begin(), e.end(), [](half_edge const& a, half_edge const& b) {
+    return a.key != b.key ? a.key < b.key : a.ref < b.ref;
+  });
+  auto const kind_of = [&](std::uint32_t t, std::uint32_t k, std::uint32_t u) {
+    Vec3 const& n1 = normals[t];
+    float const c = n1.dot(normals[u]);
+    if (c >= flat_cosine) return EdgeKind::flat;
+    // u's vertex off the shared edge, measured against t's plane.
+    std::uint32_t const p = idx[t][k], q = idx[t][(k + 1) % 3];
+    std::uint32_t r = idx[u][0];
+    for (std::uint32_t v : idx[u])
+      if (v != p && v != q) r = v;
+    float const s = n1.dot(verts[r] - verts[p]);
+    return s < 0.0f ? EdgeKind::convex : EdgeKind::concave;
+  };
+  for (std::size_t i = 0; i < e.size();) {
+    std::size_t j = i + 1;
+    while (j < e.size() && e[j].key == e[i].key)
+      ++j;
+    if (j - i == 1) {
+      // boundary: the default
+    } else {
+      bool paired = false;
+      if (j - i == 2) {
+        std::uint32_t const t0 = e[i].ref / 3, k0 = e[i].ref % 3;
+        std::uint32_t const t1 = e[i + 1].ref / 3, k1 = e[i + 1].ref % 3;
+        // Opposite directions: t0 runs p -> q, t1 runs q -> p.
+        paired = idx[t0][k0] == idx[t1][(k1 + 1) % 3] && t0 != t1;
+        if (paired) {
+          out[t0].neighbour[k0] = t1;
+          out[t1].neighbour[k1] = t0;
+          out[t0].kind[k0] = kind_of(t0, k0, t1);
+          out[t1].kind[k1] = kind_of(t1, k1, t0);
+        }
+      }
+      if (!paired)
+        for (std::size_t m = i; m < j; ++m)
+          out[e[m].ref / 3].kind[e[m].ref % 3] = EdgeKind::non_manifold;
+    }
+    i = j;
+  }
+}
+
+} // namespace
+
+MeshBuildResult TriangleMesh::build(std::span<Vec3 const> vertices,
+                                    std::span<std::uint32_t const> indices,
+                                    MeshConfig const& config) {
+  MeshBuildResult r;
+  r.input_triangles = indices.size() / 3;
+  auto const fail = [&](MeshError e, std::size_t item) {
+    r.error = e;
+    r.bad_item = item;
+    r.triangles = 0;
+    return std::move(r);
+  };
+  if (vertices.empty() || indices.empty()) return fail(MeshError::empty, 0);
+  if (indices.size() % 3 != 0)
+    return fail(MeshError::index_count_not_multiple_of_3, indices.size());
+  if (r.input_triangles >= (std::size_t(1) << 31)) return fail(MeshError::too_many_triangles, 0);
+  for (std::size_t i = 0; i < vertices.size(); ++i)
+    if (!finite(vertices[i])) return fail(MeshError::non_finite_vertex, i);
+  for (std::size_t i = 0; i < indices.size(); ++i)
+    if (indices[i] >= vertices.size()) return fail(MeshError::index_out_of_range, i);
+
+  TriangleMesh& m = r.mesh;
+  m.vertices_.assign(vertices.begin(), vertices.end());
+  for (std::size_t t = 0; t < r.input_triangles; ++t) {
+    std::array<std::uint32_t, 3> const id{indices[3 * t], indices[3 * t + 1], indices[3 * t + 2]};
+    Triangle const tri{vertices[id[0]], vertices[id[1]], vertices[id[2]]};
+    Vec3 const sn = tri.scaled_normal();
+    float const len2 = sn.length_squared();
+    if (!(len2 >= std::numeric_limits<float>::min())) {
+      ++r.degenerate;
+      continue;
+    }
+    m.indices_.push_back(id);
+    m.tris_.push_back(tri);
+    m.normals_.push_back(sn * (1.0f / std::sqrt(len2)));
+    m.source_.push_back(std::uint32_t(t));
+  }
+  if (m.tris_.empty()) {
+    std::size_t const d = r.degenerate;
+    MeshBuildResult out = fail(MeshError::all_degenerate, 0);
+    out.degenerate = d;
+    out.mesh = TriangleMesh{};
+    return out;
+  }
+  r.triangles = m.tris_.size();
+  classify_edges(m.indices_, m.vertices_, m.normals_, config.flat_cosine, m.edges_);
+
+  TreeConfig tc;
+  tc.margin = 0.0f;
+  tc.margin_fraction = 0.0f;
+  m.tree_ = AabbTree(tc);
+  m.bounds_ = m.tris_[0].local_aabb();
+  for (std::size_t t = 0; t < m.tris_.size(); ++t) {
+    Aabb3 const b = m.tris_[t].local_aabb();
+    m.bounds_ = m.bounds_.merge(b);
+    ProxyId const id = m.tree_.insert(b, t);
+    if (id != ProxyId(t)) throw std::logic_error("plume::TriangleMesh: proxy ids not 0..n-1");
+  }
+  m.tree_.rebuild();
+  m.bvh_.build(m.tree_);
+  return r;
+}
+
+MeshRayHit TriangleMesh::ray_cast(Iso3 const& pose, Ray3 const& ray, float max_toi) const {
+  Ray3 const local{pose.inverse_transform_point(ray.origin),
+                   pose.inverse_transform_vector(ray.dir)};
+  MeshRayHit h = ray_cast_with(bvh_, local, max_toi);
+  if (h.hit()) h.normal = pose.transform_vector(h.normal);
+  return h;
+}
+
+Vec3 closest_point_on_triangle(Triangle const& t, Vec3 const& p) noexcept {
+  Vec3 const ab = t.b - t.a, ac = t.c - t.a, ap = p - t.a;
+  float const d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0.0f && d2 <= 0.0f) return t.a;
+  Vec3 const bp = p - t.b;
+  float const d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0.0f && d4 <= d3) return t.b;
+  float const vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) return t.a + ab * (d1 / (d1 - d3));
+  Vec3 const cp = p - t.c;
+  float const d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0.0f && d5 <= d6) return t.c;
+  float const vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) return t.a + ac * (d2 / (d2 - d6));
+  float const va = d3 * d6 - d5 * d4;
+  if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f)
+    return t.b + (t.c - t.b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  float const denom = 1.0f / (va + vb + vc);
+  return t.a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+MeshClosestPoint TriangleMesh::closest_point(Vec3 const& p, float max_distance) const {
+  MeshClosestPoint best;
+  if (bvh_.empty() || !finite(p) || !(max_distance >= 0.0f)) return best;
+  using W = WideBvh;
+  using T = f32xN;
+  constexpr std::size_t K = W::arity, L = W::lanes;
+  float best_d2 = max_distance * max_distance;
+  if (std::isinf(max_distance)) best_d2 = std::numeric_limits<float>::infinity();
+  GVec3<T> const q = detail::splat3<T>(p);
+  struct entry {
+    std::uint32_t ref;
+    float d2;
+  };
+  detail::TraversalStack<entry> stack;
+  stack.push_back({0, 0.0f});
+  // Boxes are tight and their distance rounds differently from a triangle's: prune only
+  // beyond a relative slack, so that ties and near-ties are always decided by the triangles.
+  auto const bound = [&] { return best_d2 + best_d2 * 0x1p-10f; };
+  while (!stack.empty()) {
+    entry const e = stack.pop_back();
+    if (e.d2 > bound()) continue;
+    if (e.ref & W::leaf_bit) {
+      std::uint32_t const t = e.ref & ~W::leaf_bit;
+      Vec3 const c = closest_point_on_triangle(tris_[t], p);
+      float const d2 = (p - c).length_squared();
+      if (d2 < best_d2 || (d2 == best_d2 && t < best.triangle)) {
+        best_d2 = d2;
+        best.triangle = t;
+        best.point = c;
+      }
+      continue;
+    }
+    auto const& node = bvh_.nodes()[e.ref];
+    alignas(64) std::array<float, K> d2s;
+    T const zero = plume::zero<T>();
+    for (std::size_t g = 0; g < K / L; ++g) {
+      GVec3<T> const lo = node.box[g].min, hi = node.box[g].max;
+      T const dx = plume::max(plume::max(lo.x - q.x, q.x - hi.x), zero);
+      T const dy = plume::max(plume::max(lo.y - q.y, q.y - hi.y), zero);
+      T const dz = plume::max(plume::max(lo.z - q.z, q.z - hi.z), zero);
+      plume::store_aligned(&d2s[g * L], (dx * dx + dy * dy) + dz * dz);
+    }
+    // Nearest child popped first (pushed last); empty slots have infinite distance.
+    std::array<entry, K> met;
+    std::size_t n = 0;
+    float const lim = bound();
+    for (std::size_t i = 0; i < K; ++i) {
+      if (node.child[i] == W::empty_child || !(d2s[i] <= lim)) continue;
+      entry const c{node.child[i], d2s[i]};
+      std::size_t j = n++;
+      for (; j > 0 && met[j - 1].d2 <= c.d2; --j)
+        met[j] = met[j - 1];
+      met[j] = c;
+    }
+    for (std::size_t i = 0; i < n; ++i)
+      stack.push_back(met[i]);
+  }
+  if (best.found()) best.distance = std::sqrt(best_d2);
+  return best;
+}
+
+MeshClosestPoint TriangleMesh::closest_point(Iso3 const& pose, Vec3 const& p,
+                                             float max_distance) const {
+  MeshClosestPoint c = closest_point(pose.inverse_transform_point(p), max_distance);
+  if (c.found()) c.point = pose.transform_point(c.point);
+  return c;
+}
+
+} // namespace plume

@@ -1,0 +1,221 @@
+// plume/spatial/triangle_mesh.hpp - TriangleMesh: a static triangle soup with a BVH, for ray
+// casts, box queries and closest points, and per-edge adjacency for internal-edge handling.
+//
+//   auto r = TriangleMesh::build(vertices, indices);   // 3 indices per triangle
+//   if (!r.ok()) report(r.error, r.bad_item);
+//   TriangleMesh const& mesh = r.mesh;
+//   MeshRayHit h = mesh.ray_cast(Ray3{o, d}, 100.0f);   // closest hit, local frame
+//   mesh.query_aabb(box, [&](std::uint32_t tri) { ...; return true; });
+//   MeshClosestPoint c = mesh.closest_point(p, 1.0f);
+//
+// Units are the vertices' (float, the mesh's local frame); the *(pose, ...) forms take the
+// query in world space and place the mesh by pose (rigid). Triangle indices name the mesh's
+// triangles 0..triangle_count()-1, the input triangles in input order without the dropped
+// degenerate ones (source_triangle(i) gives the input index).
+//
+// Build: rejects (error, nothing built) an empty vertex or index list, an index count not a
+// multiple of 3, an index >= vertex count, a NaN or infinite coordinate; drops (and counts)
+// degenerate triangles: |(b - a) x (c - a)|^2 below the smallest normal float, which includes
+// repeated vertices and collinear ones; rejects a mesh with no triangle left. Every kept
+// triangle gets a tight box (margin 0) in a GAabbTree<float> rebuilt once by binned SAH and
+// a WideBvh copy (GWideBvh<f32xN>; float in a scalar build) for the queries.
+//
+// Ray casts: watertight per triangle (ray_cast_local(GTriangle)): a ray through a shared edge
+// or vertex of consistently wound triangles hits exactly one. Back faces: both faces are hit;
+// normal is the unit face normal turned to face the ray (normal . dir <= 0), and `back` says
+// the ray came from behind (the side opposite (b - a) x (c - a)). The result is the least toi
+// in [0, max_toi] (inclusive, units of |dir|), ties to the lower triangle index: the same
+// bits as casting against every triangle, at every node width. A ray with a non-finite or
+// zero direction, a non-finite origin, or a NaN or negative max_toi hits nothing.
+//
+// Adjacency (by vertex index: weld vertices first if the input repeats positions): edge e of
+// triangle t runs from vertex e to vertex (e + 1) % 3 of t. An edge shared by exactly two
+// triangles that run it in opposite directions has that neighbour and a kind: flat when the
+// unit normals' cosine is >= MeshConfig::flat_cosine, else convex when the neighbour's third
+// vertex is below t's plane (a ridge), concave when above (a valley). An edge of one triangle
+// is boundary; of three or more, or of two with the same direction, non_manifold (no
+// neighbour).
+//
+// Determinism: scalar code throughout but for the node tests of the wide copy (exact
+// comparisons); the same input gives the same mesh, tree and query results in every build.
+#pragma once
+
+#include <plume/collision/ray_cast.hpp>
+#include <plume/collision/shapes.hpp>
+#include <plume/math/aabb3.hpp>
+#include <plume/math/iso3.hpp>
+#include <plume/spatial/aabb_tree.hpp>
+#include <plume/spatial/wide_bvh.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <type_traits>
+#include <vector>
+
+namespace plume {
+
+inline constexpr std::uint32_t no_triangle = 0xffffffffu;
+
+enum class MeshError : std::uint8_t {
+  none,
+  empty, ///< no vertices or no indices
+  index_count_not_multiple_of_3,
+  index_out_of_range, ///< bad_item: the position in the index list
+  non_finite_vertex,  ///< bad_item: the vertex
+  all_degenerate,     ///< every triangle had zero area
+  too_many_triangles, ///< 2^31 or more
+};
+char const* to_string(MeshError e) noexcept;
+
+enum class EdgeKind : std::uint8_t { boundary, convex, flat, concave, non_manifold };
+
+/// A triangle's three edges (edge e: vertex e to vertex (e + 1) % 3).
+struct TriangleEdges {
+  std::array<std::uint32_t, 3> neighbour{no_triangle, no_triangle, no_triangle};
+  std::array<EdgeKind, 3> kind{EdgeKind::boundary, EdgeKind::boundary, EdgeKind::boundary};
+};
+
+struct MeshConfig {
+  /// Two faces meeting at an edge are flat when the cosine of the angle between their unit
+  /// normals is at least this (0.99999: about 0.26 degrees).
+  float flat_cosine = 0.99999f;
+};
+
+/// The closest hit of a mesh ray cast; triangle no_triangle and toi +infinity for none.
+struct MeshRayHit {
+  std::uint32_t triangle = no_triangle;
+  float toi = std::numeric_limits<float>::infinity();
+  Vec3 normal{}; ///< unit face normal facing the ray (world for the posed form)
+  bool back = false;
+  bool hit() const noexcept { return triangle != no_triangle; }
+};
+
+/// The nearest point of the mesh; triangle no_triangle and distance +infinity for none.
+struct MeshClosestPoint {
+  std::uint32_t triangle = no_triangle;
+  Vec3 point{}; ///< on the triangle (world for the posed form)
+  float distance = std::numeric_limits<float>::infinity();
+  bool found() const noexcept { return triangle != no_triangle; }
+};
+
+struct MeshBuildResult;
+
+class TriangleMesh {
+public:
+  TriangleMesh() = default; ///< an empty mesh: every query finds nothing
+
+  static MeshBuildResult build(std::span<Vec3 const> vertices,
+                               std::span<std::uint32_t const> indices,
+                               MeshConfig const& config = {});
+
+  std::size_t triangle_count() const noexcept { return tris_.size(); }
+  bool empty() const noexcept { return tris_.empty(); }
+  std::span<Vec3 const> vertices() const noexcept { return vertices_; }
+  Triangle const& triangle(std::uint32_t t) const noexcept { return tris_[t]; }
+  std::span<Triangle const> triangles() const noexcept { return tris_; }
+  std::array<std::uint32_t, 3> const& triangle_indices(std::uint32_t t) const noexcept {
+    return indices_[t];
+  }
+  std::uint32_t source_triangle(std::uint32_t t) const noexcept { return source_[t]; }
+  TriangleEdges const& edges(std::uint32_t t) const noexcept { return edges_[t]; }
+  /// Unit normal of the front face, (b - a) x (c - a) normalised.
+  Vec3 const& face_normal(std::uint32_t t) const noexcept { return normals_[t]; }
+  Aabb3 local_aabb() const noexcept { return bounds_; }
+  /// The binary tree (proxy id = triangle index, tight boxes), for other wide copies.
+  AabbTree const& tree() const noexcept { return tree_; }
+  WideBvh const& bvh() const noexcept { return bvh_; }
+
+  // ------------------------------------------------------------------ queries
+  MeshRayHit ray_cast(Ray3 const& ray, float max_toi) const {
+    return ray_cast_with(bvh_, ray, max_toi);
+  }
+  /// The ray in world space, the mesh placed by pose; normal in world space.
+  MeshRayHit ray_cast(Iso3 const& pose, Ray3 const& ray, float max_toi) const;
+  /// The same cast through another copy of tree() (GWideBvh<T, K>(mesh.tree())): the same
+  /// result for every T and K.
+  template <Real T, std::size_t K>
+  MeshRayHit ray_cast_with(GWideBvh<T, K> const& bvh, Ray3 const& ray, float max_toi) const;
+
+  /// f(triangle) for each triangle whose box meets `box` (touching counts), in the tree's
+  /// order; f returns false to stop (or void to visit all). A box with a NaN meets nothing.
+  template <class F>
+  void query_aabb(Aabb3 const& box, F&& f) const;
+
+  /// The nearest point of the mesh at distance <= max_distance from p (ties to the lower
+  /// triangle). A non-finite p or a NaN or negative max_distance finds nothing.
+  MeshClosestPoint closest_point(Vec3 const& p, float max_distance) const;
+  MeshClosestPoint closest_point(Iso3 const& pose, Vec3 const& p, float max_distance) const;
+
+private:
+  std::vector<Vec3> vertices_;
+  std::vector<std::array<std::uint32_t, 3>> indices_;
+  std::vector<Triangle> tris_;
+  std::vector<Vec3> normals_;
+  std::vector<std::uint32_t> source_;
+  std::vector<TriangleEdges> edges_;
+  Aabb3 bounds_{};
+  AabbTree tree_;
+  WideBvh bvh_;
+};
+
+struct MeshBuildResult {
+  MeshError error = MeshError::none;
+  std::size_t input_triangles = 0; ///< indices / 3
+  std::size_t triangles = 0;       ///< kept
+  std::size_t degenerate = 0;      ///< dropped for zero area
+  std::size_t bad_item = 0;        ///< the offending index position or vertex (see MeshError)
+  TriangleMesh mesh;               ///< empty unless ok()
+  bool ok() const noexcept { return error == MeshError::none; }
+};
+
+/// The point of triangle t nearest p (Ericson, Real-Time Collision Detection 5.1.5).
+Vec3 closest_point_on_triangle(Triangle const& t, Vec3 const& p) noexcept;
+
+// ------------------------------------------------------------------------ templates
+
+template <Real T, std::size_t K>
+MeshRayHit TriangleMesh::ray_cast_with(GWideBvh<T, K> const& bvh, Ray3 const& ray,
+                                       float max_toi) const {
+  MeshRayHit best;
+  if (!(max_toi >= 0.0f)) return best;
+  // Node boxes are tight (margin 0), so a triangle's rounded toi can fall a few ulps before
+  // the rounded entry of its box; the traversal is told best + slack so that no triangle
+  // whose toi could tie or beat the best is pruned, which makes the result the least
+  // (toi, index) over all triangles whatever the node order.
+  Vec3 const ao = ray.origin.abs(), ad = ray.dir.abs();
+  float const dmax = std::max(std::max(ad.x, ad.y), ad.z);
+  float const scale = (std::max(std::max(ao.x, ao.y), ao.z) + 1.0f) / dmax;
+  float limit = max_toi;
+  Triangle const* const tris = tris_.data();
+  bvh.ray_query(ray, max_toi, [&](ProxyId id, float) {
+    RayHit const h = ray_cast_local(tris[id], ray, limit);
+    if (h.hit && (h.toi < limit || id < best.triangle)) {
+      best.triangle = id;
+      best.toi = h.toi;
+      best.normal = h.normal;
+      best.back = h.feature == 1.0f;
+      limit = h.toi;
+    }
+    float const next = limit + (limit + scale) * 0x1p-12f;
+    return next < max_toi ? next : max_toi;
+  });
+  return best;
+}
+
+template <class F>
+void TriangleMesh::query_aabb(Aabb3 const& box, F&& f) const {
+  bvh_.query(box, [&](ProxyId id) {
+    if constexpr (std::is_void_v<decltype(f(std::uint32_t(id)))>) {
+      f(std::uint32_t(id));
+      return true;
+    } else {
+      return bool(f(std::uint32_t(id)));
+    }
+  });
+}
+
+} // namespace plume
