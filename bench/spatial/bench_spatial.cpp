@@ -142,11 +142,12 @@ struct sphere_scene {
 
   static void build_tree(AabbTree& t, std::span<sphere const> s) {
     t.clear();
-    for (std::size_t i = 0; i < s.size(); ++i) {
-      ProxyId const id = t.insert(plume::Aabb3::from_sphere(s[i].centre, s[i].radius));
-      if (id != ProxyId(i)) throw std::logic_error("bench_spatial: proxy ids not 0..n-1");
-    }
-    t.rebuild();
+    std::vector<plume::Aabb3> boxes(s.size());
+    for (std::size_t i = 0; i < s.size(); ++i)
+      boxes[i] = plume::Aabb3::from_sphere(s[i].centre, s[i].radius);
+    std::vector<ProxyId> const ids = t.insert_all(boxes); // one binned-SAH build
+    for (std::size_t i = 0; i < ids.size(); ++i)
+      if (ids[i] != ProxyId(i)) throw std::logic_error("bench_spatial: proxy ids not 0..n-1");
   }
 };
 

@@ -99,6 +99,39 @@ ProxyId GAabbTree<S>::insert(Box const& tight, std::uint64_t user) {
 }
 
 template <Float S>
+std::vector<ProxyId> GAabbTree<S>::insert_all(std::span<Box const> tight,
+                                              std::span<std::uint64_t const> user) {
+  for (std::size_t k = 0; k < tight.size(); ++k)
+    if (!box_usable(tight[k]))
+      throw std::invalid_argument("plume::AabbTree::insert_all: box " + std::to_string(k) +
+                                  " has a NaN or infinite coordinate, or min > max on some axis");
+  if (tight.size() >= std::size_t(null_proxy - 1) - live_)
+    throw std::length_error("plume::AabbTree: too many proxies");
+  std::vector<ProxyId> ids;
+  ids.reserve(tight.size());
+  proxies_.reserve(proxies_.size() + tight.size());
+  nodes_.reserve(nodes_.size() + 2 * tight.size());
+  for (std::size_t k = 0; k < tight.size(); ++k) {
+    ProxyId id;
+    if (!free_proxies_.empty()) {
+      id = free_proxies_.back();
+      free_proxies_.pop_back();
+    } else {
+      id = ProxyId(proxies_.size());
+      proxies_.push_back(Proxy{});
+    }
+    std::uint32_t const leaf = allocate_node();
+    nodes_[leaf].box = tight[k].grow(config_.margin_for(tight[k]));
+    nodes_[leaf].proxy = id;
+    proxies_[id] = Proxy{tight[k], k < user.size() ? user[k] : 0, leaf, false};
+    ++live_;
+    ids.push_back(id);
+  }
+  rebuild(); // every leaf, old and new; forgets the moved leaves as rebuild() does
+  return ids;
+}
+
+template <Float S>
 void GAabbTree<S>::remove(ProxyId id) {
   std::uint32_t const leaf = proxy(id).leaf;
   remove_leaf(leaf);

@@ -152,14 +152,18 @@ MeshBuildResult TriangleMesh::build(std::span<Vec3 const> vertices,
   tc.margin = 0.0f;
   tc.margin_fraction = 0.0f;
   m.tree_ = AabbTree(tc);
+  std::vector<Aabb3> boxes(m.tris_.size());
   m.bounds_ = m.tris_[0].local_aabb();
   for (std::size_t t = 0; t < m.tris_.size(); ++t) {
-    Aabb3 const b = m.tris_[t].local_aabb();
-    m.bounds_ = m.bounds_.merge(b);
-    ProxyId const id = m.tree_.insert(b, t);
-    if (id != ProxyId(t)) throw std::logic_error("plume::TriangleMesh: proxy ids not 0..n-1");
+    boxes[t] = m.tris_[t].local_aabb();
+    m.bounds_ = m.bounds_.merge(boxes[t]);
   }
-  m.tree_.rebuild();
+  std::vector<std::uint64_t> users(boxes.size());
+  for (std::size_t t = 0; t < users.size(); ++t)
+    users[t] = t;
+  std::vector<ProxyId> const ids = m.tree_.insert_all(boxes, users); // one binned-SAH build
+  for (std::size_t t = 0; t < ids.size(); ++t)
+    if (ids[t] != ProxyId(t)) throw std::logic_error("plume::TriangleMesh: proxy ids not 0..n-1");
   m.bvh_.build(m.tree_);
   return r;
 }

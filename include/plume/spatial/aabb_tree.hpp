@@ -109,6 +109,12 @@ public:
   /// A new leaf for the tight box `tight`, carrying `user`. Throws std::invalid_argument for
   /// a non-finite or inverted box (the tree is unchanged).
   ProxyId insert(Box const& tight, std::uint64_t user = 0);
+  /// Many leaves at once: the tight boxes `tight` with payloads `user` (0 where `user` is
+  /// shorter), then one binned-SAH rebuild of the whole tree instead of a sibling search per
+  /// leaf. Returns the new ids in order. Throws std::invalid_argument if any box is unusable,
+  /// before changing anything.
+  std::vector<ProxyId> insert_all(std::span<Box const> tight,
+                                  std::span<std::uint64_t const> user = {});
   /// Removes the proxy; its id may be reused by a later insert().
   void remove(ProxyId id);
   /// The proxy's tight box is now `tight`. Returns true when it left the fat box (the leaf got
