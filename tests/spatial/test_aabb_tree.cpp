@@ -43,9 +43,16 @@ GRay3<S> random_ray(std::mt19937& g, double world) {
   return {o, d};
 }
 
-struct Shadow {
-  std::uint64_t user;
-};
+/// After optimize() every inner box is the exact union of its children again (the moved
+/// leaves' enlarged ancestors were dissolved or refitted).
+template <class S>
+bool exact_unions(GAabbTree<S> const& tree) {
+  auto const nodes = tree.nodes();
+  for (auto const& node : nodes)
+    if (node.height > 0 && !same_box(node.box, nodes[node.left].box.merge(nodes[node.right].box)))
+      return false;
+  return true;
+}
 
 /// `ops` random operations; validate() after each one, brute force periodically.
 template <class S>
@@ -121,8 +128,10 @@ void edit_sequence(std::uint32_t seed, long ops) {
                                     : f < S(0.15)                      ? TreeOptimization::reinsert
                                     : f < S(0.45) ? TreeOptimization::partial_rebuild
                                                   : TreeOptimization::full_rebuild;
+      bool const had_moves = tree.moved_count() > 0;
       REQUIRE(tree.optimize(mode) == want);
       REQUIRE(tree.moved_count() == 0);
+      if (had_moves) REQUIRE(exact_unions(tree));
     }
     if (op % 9973 == 9972) tree.rebuild();
     std::string const v = tree.validate();
@@ -342,6 +351,7 @@ TEMPLATE_TEST_CASE("tree: every optimisation mode gives a valid, exact, better t
       if (mode != R::adaptive) REQUIRE(ran == mode);
       REQUIRE(tree.moved_count() == 0);
       REQUIRE(tree.validate() == "");
+      REQUIRE(exact_unions(tree));
       check_many_queries(tree, 17, 100);
       // Moves only ever enlarge the ancestors: putting the moved leaves back in their place
       // is cheaper (the enlarged ancestors are the cost the optimisation removes).
@@ -366,6 +376,20 @@ TEMPLATE_TEST_CASE("tree: rebuild quality, refit, stats", "[spatial][tree]", flo
     CHECK(st.height <= 2 * log2n);
     CHECK(st.area_ratio >= S(1));
     check_many_queries(tree, 2, 50, 55);
+  }
+  // Binned SAH on evenly spaced equal boxes splits every range at its middle: 2^k boxes in a
+  // row give a perfect tree, each child of the root holding one half.
+  for (int k : {4, 6, 8}) {
+    INFO(k);
+    GAabbTree<S> row;
+    for (int i = 0; i < (1 << k); ++i)
+      row.insert(GAabb3<S>{{S(i), 0, 0}, {S(i) + S(1), 1, 1}});
+    row.rebuild();
+    REQUIRE(row.validate() == "");
+    CHECK(row.stats().height == k);
+    auto const& root = row.nodes()[row.root()];
+    CHECK(row.nodes()[root.left].box.max.x < S(1 << (k - 1)) + S(0.5));
+    CHECK(row.nodes()[root.right].box.min.x > S(1 << (k - 1)) - S(0.5));
   }
   // refit() tightens what moves enlarged back to the exact unions.
   GAabbTree<S> tree = random_tree<S>(32, 300);

@@ -524,3 +524,171 @@ TEMPLATE_TEST_CASE("ray_enters: the slab test against an explicit per-axis oracl
   CHECK(hits > 10000);
   CHECK(plane_hits > 500);
 }
+
+TEMPLATE_LIST_TEST_CASE("wide bvh and tree: traversal order, nearest first, ties to the lower slot",
+                        "[spatial][bvh]", test::f32_types) {
+  using T = TestType;
+  using S = float;
+  GTreeConfig<S> exact;
+  exact.margin = 0; // fat boxes = tight boxes
+  // Cubes along x: after a rebuild every sibling pair is split by an x plane, so nearest
+  // first in each node is nearest first overall, in both directions.
+  GAabbTree<S> line(exact);
+  for (int i = 0; i < 64; ++i) {
+    S const x = S((i * 37) % 64) * 3; // inserted out of order
+    line.insert(GAabb3<S>{{x, 0, 0}, {x + 1, 1, 1}});
+  }
+  line.rebuild();
+  GWideBvh<T> const bvh(line);
+  GWideBvh<T, 4 * (lanes_v<T> < 2 ? 2 : lanes_v<T>)> const bvh4(line);
+  for (S dir : {S(1), S(-1)}) {
+    GRay3<S> const ray{{dir > 0 ? S(-10) : S(300), 0.5f, 0.5f}, {dir, 0, 0}};
+    auto const ordered = [&](auto const& q) {
+      std::vector<S> entries;
+      q.ray_query(ray, S(1000), [&](ProxyId, S entry) {
+        entries.push_back(entry);
+        return S(1000);
+      });
+      REQUIRE(entries.size() == 64);
+      REQUIRE(std::is_sorted(entries.begin(), entries.end()));
+    };
+    ordered(line);
+    ordered(bvh);
+    ordered(bvh4);
+  }
+  // Identical boxes: every entry ties, so the ray visits leaves in slot order, which is
+  // the box query's order (the tree's left-first order).
+  std::mt19937 g(3);
+  for (int n : {3, 4, 5, 16, 40}) {
+    GAabbTree<S> same(exact);
+    for (int i = 0; i < n; ++i)
+      same.insert(GAabb3<S>{{0, 0, 0}, {1, 1, 1}});
+    for (int round = 0; round < 2; ++round) {
+      INFO(n << " identical boxes, round " << round);
+      GWideBvh<T> const wb(same);
+      GWideBvh<T, 2 * (lanes_v<T> < 2 ? 2 : lanes_v<T>)> const wb2(same);
+      GRay3<S> const ray{{-1, 0.5f, 0.5f}, {1, 0, 0}};
+      auto const order = [&](auto const& q) {
+        std::vector<ProxyId> ids;
+        q.ray_query(ray, S(10), [&](ProxyId id, S) {
+          ids.push_back(id);
+          return S(10);
+        });
+        return ids;
+      };
+      auto const want = tree_query(same, GAabb3<S>{{0, 0, 0}, {1, 1, 1}});
+      REQUIRE(want.size() == std::size_t(n));
+      REQUIRE(order(same) == want);
+      std::vector<ProxyId> wq;
+      wb.query(GAabb3<S>{{0, 0, 0}, {1, 1, 1}}, [&](ProxyId id) {
+        wq.push_back(id);
+        return true;
+      });
+      REQUIRE(wq == want);
+      REQUIRE(order(wb) == want);
+      REQUIRE(order(wb2) == want);
+      same.rebuild();
+    }
+  }
+  // An entry exactly at max_toi counts, in the tree and the wide copy.
+  GAabbTree<S> two(exact);
+  two.insert(GAabb3<S>{{1, 0, 0}, {2, 1, 1}});
+  two.insert(GAabb3<S>{{3, 0, 0}, {4, 1, 1}});
+  GWideBvh<T> const wt(two);
+  GRay3<S> const ray{{0, 0.5f, 0.5f}, {1, 0, 0}};
+  for (S m : {S(1), S(3)}) {
+    std::size_t const want = m == S(1) ? 1 : 2;
+    std::size_t a = 0, b = 0;
+    two.ray_query(ray, m, [&](ProxyId, S) {
+      ++a;
+      return m;
+    });
+    wt.ray_query(ray, m, [&](ProxyId, S) {
+      ++b;
+      return m;
+    });
+    CHECK(a == want);
+    CHECK(b == want);
+    auto const h = wt.ray_cast(ray, m, [&](ProxyId id, S) { return id == 0 ? S(1) : S(3); });
+    CHECK(h.proxy == 0);
+    // A leaf toi exactly at max_toi is a hit.
+    auto const h1 = wt.ray_cast(ray, m, [&](ProxyId id, S) { return id == 1 ? m : S(5); });
+    CHECK(h1.proxy == (m == S(3) ? 1u : null_proxy));
+  }
+}
+
+namespace {
+
+/// The header's collapse rule, written out: the binary node's two children, then the inner
+/// child of largest surface area (the first of equal ones) opened in place until there are K.
+template <class T, std::size_t K>
+void check_collapse(GWideBvh<T, K> const& bvh, GAabbTree<scalar_t<T>> const& tree,
+                    std::uint32_t wide, std::uint32_t bin, std::size_t& leaves) {
+  using S = scalar_t<T>;
+  using W = GWideBvh<T, K>;
+  auto const nodes = tree.nodes();
+  std::vector<std::uint32_t> kids;
+  if (nodes[bin].is_leaf())
+    kids = {bin};
+  else
+    kids = {nodes[bin].left, nodes[bin].right};
+  while (kids.size() < K) {
+    std::size_t best = kids.size();
+    S best_area = S(-1);
+    for (std::size_t i = 0; i < kids.size(); ++i)
+      if (!nodes[kids[i]].is_leaf() && nodes[kids[i]].box.surface_area() > best_area) {
+        best_area = nodes[kids[i]].box.surface_area();
+        best = i;
+      }
+    if (best == kids.size()) break;
+    std::uint32_t const opened = kids[best];
+    kids[best] = nodes[opened].right;
+    kids.insert(kids.begin() + std::ptrdiff_t(best), nodes[opened].left);
+  }
+  auto const& node = bvh.nodes()[wide];
+  for (std::size_t i = 0; i < K; ++i) {
+    INFO("wide node " << wide << " slot " << i);
+    GAabb3<S> const lane_box{{lane(node.box[i / W::lanes].min.x, i % W::lanes),
+                              lane(node.box[i / W::lanes].min.y, i % W::lanes),
+                              lane(node.box[i / W::lanes].min.z, i % W::lanes)},
+                             {lane(node.box[i / W::lanes].max.x, i % W::lanes),
+                              lane(node.box[i / W::lanes].max.y, i % W::lanes),
+                              lane(node.box[i / W::lanes].max.z, i % W::lanes)}};
+    if (i >= kids.size()) {
+      REQUIRE(node.child[i] == W::empty_child);
+      REQUIRE(same_box(lane_box, GAabb3<S>{})); // EMPTY
+      continue;
+    }
+    auto const& c = nodes[kids[i]];
+    REQUIRE(same_box(lane_box, c.box));
+    if (c.is_leaf()) {
+      REQUIRE(node.child[i] == (W::leaf_bit | c.proxy));
+      ++leaves;
+    } else {
+      REQUIRE(node.child[i] < bvh.node_count());
+      check_collapse(bvh, tree, node.child[i], kids[i], leaves);
+    }
+  }
+}
+
+template <class T, std::size_t K>
+void check_collapse_all(GAabbTree<scalar_t<T>> const& tree) {
+  GWideBvh<T, K> const bvh(tree);
+  std::size_t leaves = 0;
+  check_collapse(bvh, tree, 0, tree.root(), leaves);
+  REQUIRE(leaves == tree.size());
+}
+
+} // namespace
+
+TEMPLATE_LIST_TEST_CASE("wide bvh: the copy is the header's collapse of the tree", "[spatial][bvh]",
+                        test::f32_types) {
+  using T = TestType;
+  constexpr std::size_t K1 = lanes_v<T> < 2 ? 2 : lanes_v<T>;
+  for (bool optimised : {false, true}) {
+    Scene<float> const s = make_scene<float>(75, 300, optimised);
+    check_collapse_all<T, K1>(s.tree);
+    check_collapse_all<T, 2 * K1>(s.tree);
+    check_collapse_all<T, default_arity_v<T>>(s.tree);
+  }
+}
