@@ -259,7 +259,9 @@ auto GWideBvh<T, K>::ray_cast(GRay3<S> const& ray, S max_toi, LeafCast&& leaf) c
   S limit = max_toi;
   ray_query(ray, max_toi, [&](ProxyId id, S) {
     S const t = leaf(id, limit);
-    if (t <= limit && (t < limit || id < best.proxy) && t >= S(0)) {
+    // +infinity is a miss even for an infinite max_toi (where it is not above the limit).
+    if (t <= limit && t < std::numeric_limits<S>::infinity() && (t < limit || id < best.proxy) &&
+        t >= S(0)) {
       best.proxy = id;
       best.toi = t;
       limit = t;
