@@ -814,3 +814,27 @@ TEMPLATE_TEST_CASE("tree: coordinates around 1e6", "[spatial][tree]", float, dou
   CHECK(tree.stats().height <= 2 * 11);
   check_all();
 }
+
+TEST_CASE("aabb tree: infinite query bounds meet every leaf, NaN and inverted ones none",
+          "[spatial][tree][bad-input]") {
+  AabbTree tree;
+  std::vector<ProxyId> ids;
+  for (int i = 0; i < 50; ++i)
+    ids.push_back(
+        tree.insert(Aabb3::from_center_half_extents(Vec3::splat(float(i)), Vec3::splat(0.5f))));
+  float const inf = std::numeric_limits<float>::infinity(),
+              nan = std::numeric_limits<float>::quiet_NaN();
+  auto const count = [&](Aabb3 const& q) {
+    std::size_t n = 0, w = 0;
+    tree.query(q, [&](ProxyId) { return ++n > 0; });
+    WideBvh const bvh(tree);
+    bvh.query(q, [&](ProxyId) { return ++w > 0; });
+    CHECK(n == w);
+    return n;
+  };
+  CHECK(count({Vec3::splat(-inf), Vec3::splat(inf)}) == 50);
+  CHECK(count({Vec3{-inf, -inf, -inf}, Vec3{10.0f, inf, inf}}) == 11); // centres 0..10
+  CHECK(count({Vec3{nan, 0, 0}, Vec3::splat(inf)}) == 0);
+  CHECK(count({Vec3::splat(5.0f), Vec3::splat(4.0f)}) == 0); // inverted
+  CHECK(count(Aabb3{}) == 0);                                // EMPTY
+}

@@ -150,7 +150,8 @@ public:
 
   // ---------------------------------------------------------------- queries
   /// f(ProxyId) for every leaf whose fat box intersects `box` (touching counts); f returns
-  /// false to stop. An invalid query box (NaN) meets nothing.
+  /// false to stop. Infinite bounds are allowed (-inf..+inf meets every leaf); a box with a
+  /// NaN, or min > max on some axis, meets nothing.
   template <class F>
   void query(Box const& box, F&& f) const;
   /// f(ProxyId, entry) for every leaf whose fat box the ray enters at a distance entry in
@@ -282,7 +283,7 @@ inline bool usable_ray(GRay3<S> const& ray) noexcept {
 template <Float S>
 template <class F>
 void GAabbTree<S>::query(Box const& box, F&& f) const {
-  if (root_ == null_node || !box.is_valid()) return;
+  if (root_ == null_node || !bool(box.min.cmple(box.max).all())) return;
   detail::TraversalStack<std::uint32_t> stack;
   stack.push_back(root_);
   while (!stack.empty()) {

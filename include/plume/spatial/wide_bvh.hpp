@@ -95,7 +95,8 @@ public:
   GTreeRayHit<S> ray_cast(GRay3<S> const& ray, S max_toi, LeafCast&& leaf) const;
 
   /// f(ProxyId) for each leaf whose fat box intersects `box` (touching counts), in the tree's
-  /// order; f returns false to stop. A box with a NaN meets nothing.
+  /// order; f returns false to stop. Infinite bounds are allowed; a box with a NaN, or
+  /// min > max on some axis, meets nothing.
   template <class F>
   void query(GAabb3<S> const& box, F&& f) const;
 
@@ -239,6 +240,7 @@ void GWideBvh<T, K>::ray_query(GRay3<S> const& ray, S max_toi, F&& f) const {
     std::size_t n = 0;
     for (; bits; bits &= bits - 1) {
       auto const i = std::size_t(std::countr_zero(bits));
+      if (node.child[i] == empty_child) continue; // never entered (EMPTY box); kept safe
       Entry const c{node.child[i], entry[i]};
       std::size_t j = n++;
       for (; j > 0 && met[j - 1].entry <= c.entry; --j) // descending entry, ties: higher slot first
@@ -274,7 +276,7 @@ auto GWideBvh<T, K>::ray_cast(GRay3<S> const& ray, S max_toi, LeafCast&& leaf) c
 template <Real T, std::size_t K>
 template <class F>
 void GWideBvh<T, K>::query(GAabb3<S> const& box, F&& f) const {
-  if (nodes_.empty() || !bool(box.is_valid())) return;
+  if (nodes_.empty() || !bool(box.min.cmple(box.max).all())) return;
   GAabb3<T> const q{detail::splat3<T>(box.min), detail::splat3<T>(box.max)};
   detail::TraversalStack<std::uint32_t> stack;
   stack.push_back(0);
@@ -291,7 +293,8 @@ void GWideBvh<T, K>::query(GAabb3<S> const& box, F&& f) const {
     // Highest slot pushed first, so slot order is kept.
     while (bits) {
       auto const i = std::size_t(63 - std::countl_zero(bits));
-      stack.push_back(node.child[i]);
+      // An unused slot's EMPTY box meets a query box with infinite bounds: skip it.
+      if (node.child[i] != empty_child) stack.push_back(node.child[i]);
       bits &= ~(std::uint64_t(1) << i);
     }
   }
