@@ -254,6 +254,17 @@ bool touches(Q const& q, Iso3 const& pose, BodyShape const& b, Iso3 const& pose_
 
 } // namespace
 
+bool World::shapes_touch(std::uint32_t a, std::uint32_t b) const {
+  Body const& x = bodies_[a];
+  Body const& y = bodies_[b];
+  if (std::holds_alternative<HalfSpace>(x.shape)) {               // the convex one queries
+    if (std::holds_alternative<HalfSpace>(y.shape)) return false; // two half-spaces: no answer
+    return shapes_touch(b, a);
+  }
+  return with_convex(x.shape,
+                     [&](auto const& q, bool) { return touches(q, x.pose, y.shape, y.pose); });
+}
+
 void World::overlap_shape(BodyShape const& shape, Iso3 const& pose,
                           std::function<bool(BodyId)> const& f, QueryFilter const& filter) const {
   if (!pose.is_finite()) return;

@@ -58,6 +58,56 @@ void World::find_pairs() {
   bvh_.find_pairs(dynamic_queriers_, kinematic_queriers_, keep, pairs_);
 }
 
+/// Pairs with a sensor leave pairs_ (no manifold, no contact) for sensor_pairs_.
+void World::split_sensor_pairs() {
+  sensor_pairs_.clear();
+  auto const is_sensor_pair = [&](std::uint64_t k) {
+    return bodies_[body_pair_first(k)].sensor || bodies_[body_pair_second(k)].sensor;
+  };
+  for (std::uint64_t k : pairs_)
+    if (is_sensor_pair(k)) sensor_pairs_.push_back(k);
+  if (!sensor_pairs_.empty())
+    pairs_.erase(std::remove_if(pairs_.begin(), pairs_.end(), is_sensor_pair), pairs_.end());
+}
+
+BodyPair World::pair_ids(std::uint64_t key) const {
+  std::uint32_t const a = body_pair_first(key), b = body_pair_second(key);
+  return {BodyId{a, bodies_[a].generation}, BodyId{b, bodies_[b].generation}};
+}
+
+/// This step's events: the contact pairs and sensor overlaps against the last step's.
+void World::update_events() {
+  auto const diff = [&](std::vector<std::uint64_t> const& before,
+                        std::vector<std::uint64_t> const& now, std::vector<BodyPair>& begun,
+                        std::vector<BodyPair>& ended) {
+    std::size_t i = 0, j = 0;
+    while (i < before.size() || j < now.size()) {
+      if (j == now.size() || (i < before.size() && before[i] < now[j]))
+        ended.push_back(pair_ids(before[i++]));
+      else if (i == before.size() || now[j] < before[i])
+        begun.push_back(pair_ids(now[j++]));
+      else
+        ++i, ++j;
+    }
+  };
+  touching_before_.swap(touching_now_);
+  touching_now_.clear();
+  for (Contact const& c : cache_.contacts())
+    touching_now_.push_back(body_pair_key(c.body_a, c.body_b));
+  diff(touching_before_, touching_now_, events_.contact_begin, events_.contact_end);
+  std::vector<std::uint64_t> sensor_before;
+  sensor_before.swap(sensor_now_);
+  for (std::uint64_t k : sensor_pairs_)
+    if (shapes_touch(body_pair_first(k), body_pair_second(k))) sensor_now_.push_back(k);
+  diff(sensor_before, sensor_now_, events_.sensor_begin, events_.sensor_end);
+  // destroy_body's ends (already in events_) may interleave: keep each list in pair order.
+  auto const by_pair = [](BodyPair const& x, BodyPair const& y) {
+    return body_pair_key(x.a.index, x.b.index) < body_pair_key(y.a.index, y.b.index);
+  };
+  std::stable_sort(events_.contact_end.begin(), events_.contact_end.end(), by_pair);
+  std::stable_sort(events_.sensor_end.begin(), events_.sensor_end.end(), by_pair);
+}
+
 /// Narrow phase: a manifold per pair, then the contact cache matches them with last step's.
 void World::collide_pairs() {
   found_.resize(pairs_.size());
@@ -219,11 +269,15 @@ template <class T>
 void World::step_with(float dt) {
   if (!(dt > 0.0f) || !std::isfinite(dt)) return;
   auto const t_start = clock::now();
+  events_ = std::move(pending_);
+  pending_ = StepEvents{};
   find_pairs();
+  split_sensor_pairs();
   profile_.broad_phase = seconds_since(t_start);
 
   auto const t_narrow = clock::now();
   collide_pairs();
+  update_events();
   profile_.narrow_phase = seconds_since(t_narrow);
 
   auto const t_prepare = clock::now();

@@ -84,6 +84,7 @@ CreateBodyResult World::create_body(BodyDef const& def) {
   b.angular_damping = def.angular_damping;
   b.gravity_scale = def.gravity_scale;
   b.layers = def.layers;
+  b.sensor = def.sensor;
   if (def.type == BodyType::dynamic) {
     MassProperties const mp = shape_mass(def.shape, def.density);
     if (!(mp.mass > 0.0f) || !std::isfinite(mp.mass) || !finite(mp.center) ||
@@ -144,6 +145,16 @@ BodyId World::body_id(std::uint32_t index) const {
 BodyError World::destroy_body(BodyId id) {
   if (!is_alive(id)) return BodyError::bad_body;
   std::uint32_t const i = id.index;
+  // Its contacts and sensor overlaps end now: the next step reports them.
+  auto const end_pairs = [&](std::vector<std::uint64_t>& keys, std::vector<BodyPair>& ended) {
+    std::erase_if(keys, [&](std::uint64_t k) {
+      if (body_pair_first(k) != i && body_pair_second(k) != i) return false;
+      ended.push_back(pair_ids(k));
+      return true;
+    });
+  };
+  end_pairs(touching_now_, pending_.contact_end);
+  end_pairs(sensor_now_, pending_.sensor_end);
   std::uint32_t const one[] = {i};
   cache_.remove_bodies(one);
   bvh_.remove(i);

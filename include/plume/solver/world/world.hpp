@@ -104,6 +104,9 @@ struct BodyDef {
   float angular_damping = 0.0f; ///< 1/s
   float gravity_scale = 1.0f;
   CollisionLayers layers{};
+  /// A sensor reports the bodies it overlaps (sensor events) and takes no contact response;
+  /// it pairs, like every body, only where at least one of the two is dynamic.
+  bool sensor = false;
 };
 
 enum class BodyError : std::uint8_t {
@@ -158,6 +161,22 @@ struct WorldPointHit {
   BodyId body;
   float distance = 0.0f;
   Vec3 point{};
+};
+
+/// Two bodies in an event, the lower slot first (ids as they were when the event happened).
+struct BodyPair {
+  BodyId a, b;
+  friend bool operator==(BodyPair const&, BodyPair const&) = default;
+};
+
+/// What changed in the last step, each list in increasing pair order. A contact begins in the
+/// step its pair first has manifold points (within the speculative distance) and ends in the
+/// step it has none, or when a body is frozen or destroyed (destroy_body's ends are reported
+/// by the next step). A sensor overlap begins when the shapes first intersect (touching
+/// counts) and ends when they no longer do.
+struct StepEvents {
+  std::vector<BodyPair> contact_begin, contact_end;
+  std::vector<BodyPair> sensor_begin, sensor_end;
 };
 
 struct CreateBodyResult {
@@ -286,6 +305,12 @@ public:
   std::optional<WorldPointHit> project_point(Vec3 const& point, float max_distance,
                                              QueryFilter const& filter = {}) const;
 
+  bool is_sensor(BodyId id) const { return body(id).sensor; }
+  /// The last step's contact and sensor events.
+  StepEvents const& events() const noexcept { return events_; }
+  /// The sensor overlaps as of the last step, as body_pair_key()s in increasing order.
+  std::span<std::uint64_t const> sensor_overlaps() const noexcept { return sensor_now_; }
+
   /// Bodies frozen because their state turned non-finite (ever, in freezing order).
   std::span<BodyId const> frozen_bodies() const noexcept { return frozen_; }
   bool is_frozen(BodyId id) const { return body(id).frozen; }
@@ -325,6 +350,7 @@ private:
     float linear_damping = 0.0f, angular_damping = 0.0f, gravity_scale = 1.0f;
     CollisionLayers layers{};
     bool alive = true;
+    bool sensor = false;
     std::uint32_t generation = 0;
     bool moves() const noexcept { return alive && !frozen && type != BodyType::static_body; }
     bool is_dynamic() const noexcept { return alive && !frozen && type == BodyType::dynamic; }
@@ -337,6 +363,10 @@ private:
   void find_pairs();
   Aabb3 grown_aabb(std::uint32_t i) const;
   void sync_trees() const;
+  void split_sensor_pairs();
+  void update_events();
+  bool shapes_touch(std::uint32_t a, std::uint32_t b) const;
+  BodyPair pair_ids(std::uint64_t key) const;
   bool passes(std::uint32_t i, QueryFilter const& filter) const;
   /// Bodies whose grown boxes overlap `box` and pass the filter, by index (candidates).
   void candidates(Aabb3 const& box, QueryFilter const& filter,
@@ -370,6 +400,9 @@ private:
   std::vector<PairManifold> found_;  ///< this step's manifolds, by pair
   ContactCache cache_;
   std::vector<BodyId> frozen_;
+  StepEvents events_, pending_; ///< pending_: destroy_body's ends, for the next step
+  std::vector<std::uint64_t> touching_before_, touching_now_; ///< contact pair keys
+  std::vector<std::uint64_t> sensor_pairs_, sensor_now_;      ///< candidates, overlaps
   std::vector<std::uint32_t> free_slots_; ///< destroyed bodies' slots, reused last-freed first
   StepProfile profile_;
   std::array<std::size_t, ConstraintGraph::color_count + 1> color_sizes_{};
