@@ -60,7 +60,7 @@ std::uint32_t GAabbTree<S>::allocate_node() {
 }
 
 template <Float S>
-void GAabbTree<S>::free_node(std::uint32_t n) noexcept {
+void GAabbTree<S>::free_node(std::uint32_t n) {
   nodes_[n] = Node{};
   nodes_[n].height = -1;
   free_nodes_.push_back(n);
@@ -302,7 +302,16 @@ std::uint32_t GAabbTree<S>::build(std::span<std::uint32_t> prims) {
   std::uint32_t result = null_node;
   std::vector<Task> tasks;
   tasks.push_back({0, std::uint32_t(prims.size()), null_node, true});
-  auto centre = [&](std::uint32_t n) { return nodes_[n].box.center(); };
+  // Halves first: (min + max) / 2 overflows for boxes near the largest float.
+  auto centre = [&](std::uint32_t n) {
+    Box const& b = nodes_[n].box;
+    return b.min * S(0.5) + b.max * S(0.5);
+  };
+  // The bin of centroid coordinate c: NaN (an overflowed c - lo) and negatives go to 0.
+  auto const bin_of = [](S c, S lo, S scale) {
+    S const v = (c - lo) * scale;
+    return v >= S(bins) ? bins - 1 : v > S(0) ? int(v) : 0;
+  };
   auto const attach = [&](Task const& t, std::uint32_t n) {
     nodes_[n].parent = t.parent;
     if (t.parent == null_node)
@@ -329,13 +338,14 @@ std::uint32_t GAabbTree<S>::build(std::span<std::uint32_t> prims) {
     S best_cost = std::numeric_limits<S>::infinity();
     for (int axis = 0; axis < 3; ++axis) {
       S const lo = axis_of(cb.min, axis), w = axis_of(ext, axis);
-      if (!(w > S(0))) continue;
       S const scale = S(bins) / w;
+      // A spread that overflowed (w = inf, scale 0) or is subnormal (scale = inf) bins nothing.
+      if (!(w > S(0)) || !std::isfinite(w) || !(scale > S(0)) || !std::isfinite(scale)) continue;
       std::array<Box, bins> bb{};
       std::array<std::uint32_t, bins> bc{};
       for (std::uint32_t i = t.begin; i < t.end; ++i) {
         std::uint32_t const n = prims[i];
-        int const b = std::min(bins - 1, int((axis_of(centre(n), axis) - lo) * scale));
+        int const b = bin_of(axis_of(centre(n), axis), lo, scale);
         bb[b] = bb[b].merge(nodes_[n].box);
         ++bc[b];
       }
@@ -371,8 +381,7 @@ std::uint32_t GAabbTree<S>::build(std::span<std::uint32_t> prims) {
       S const lo = axis_of(cb.min, best_axis), scale = S(bins) / axis_of(ext, best_axis);
       auto const first_right = std::stable_partition(
           prims.begin() + t.begin, prims.begin() + t.end, [&](std::uint32_t n) {
-            return std::min(bins - 1, int((axis_of(centre(n), best_axis) - lo) * scale)) <
-                   best_plane;
+            return bin_of(axis_of(centre(n), best_axis), lo, scale) < best_plane;
           });
       mid = std::uint32_t(first_right - prims.begin());
       if (mid == t.begin || mid == t.end) mid = t.begin + count / 2; // cannot happen; safe

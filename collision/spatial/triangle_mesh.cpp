@@ -116,7 +116,8 @@ MeshBuildResult TriangleMesh::build(std::span<Vec3 const> vertices,
   if (vertices.empty() || indices.empty()) return fail(MeshError::empty, 0);
   if (indices.size() % 3 != 0)
     return fail(MeshError::index_count_not_multiple_of_3, indices.size());
-  if (r.input_triangles >= (std::size_t(1) << 31)) return fail(MeshError::too_many_triangles, 0);
+  // Edge references are triangle * 3 + edge in 32 bits.
+  if (r.input_triangles >= (std::size_t(1) << 30)) return fail(MeshError::too_many_triangles, 0);
   for (std::size_t i = 0; i < vertices.size(); ++i)
     if (!finite(vertices[i])) return fail(MeshError::non_finite_vertex, i);
   for (std::size_t i = 0; i < indices.size(); ++i)
@@ -135,7 +136,12 @@ MeshBuildResult TriangleMesh::build(std::span<Vec3 const> vertices,
     }
     m.indices_.push_back(id);
     m.tris_.push_back(tri);
-    m.normals_.push_back(sn * (1.0f / std::sqrt(len2)));
+    // In double: the float cross product of a large triangle overflows (its length, or the
+    // products in it), which would give a zero or NaN normal.
+    DVec3 const da{tri.a.x, tri.a.y, tri.a.z}, db{tri.b.x, tri.b.y, tri.b.z},
+        dc{tri.c.x, tri.c.y, tri.c.z};
+    DVec3 const dn = (db - da).cross(dc - da).normalize_or_zero();
+    m.normals_.push_back(Vec3{float(dn.x), float(dn.y), float(dn.z)});
     m.source_.push_back(std::uint32_t(t));
   }
   if (m.tris_.empty()) {

@@ -69,13 +69,15 @@ void World::sync_trees() const {
   for (std::uint32_t i : stale_statics_) // every new or teleported static body
     if (bodies_[i].alive) bvh_.set_box(i, grown_aabb(i), false);
   stale_statics_.clear();
+  // Sort and sweep never asks the trees for pairs: keep their quality here.
+  if (config_.broad_phase == BroadPhaseKind::sort_and_sweep) bvh_.optimize();
   trees_synced_ = true;
 }
 
 bool World::passes(std::uint32_t i, QueryFilter const& filter) const {
   if ((bodies_[i].layers.memberships & filter.mask) == 0) return false;
-  for (BodyId const e : filter.exclude)
-    if (e.index == i) return false;
+  for (BodyId const e : filter.exclude) // a stale id excludes nothing (not the slot's new body)
+    if (e.index == i && e.generation == bodies_[i].generation) return false;
   return !filter.predicate || filter.predicate(BodyId{i, bodies_[i].generation});
 }
 
@@ -104,10 +106,18 @@ BodyError World::set_layers(BodyId id, CollisionLayers const& layers) {
 
 // ------------------------------------------------------------------------ rays
 
+namespace {
+/// Finite origin and direction, a direction that is not zero, max_toi >= 0 (not NaN).
+bool usable(Ray3 const& ray, float max_toi) {
+  return bool(ray.origin.is_finite()) && bool(ray.dir.is_finite()) &&
+         ray.dir.length_squared() > 0.0f && max_toi >= 0.0f;
+}
+} // namespace
+
 void World::ray_cast_all(Ray3 const& ray, float max_toi,
                          std::function<bool(WorldRayHit const&)> const& f,
                          QueryFilter const& filter) const {
-  if (!bool(ray.origin.is_finite()) || !bool(ray.dir.is_finite()) || !(max_toi >= 0.0f)) return;
+  if (!usable(ray, max_toi)) return;
   sync_trees();
   float const limit = std::min(max_toi, big);
   std::vector<WorldRayHit> hits;
@@ -133,7 +143,7 @@ void World::ray_cast_all(Ray3 const& ray, float max_toi,
 
 std::optional<WorldRayHit> World::ray_cast(Ray3 const& ray, float max_toi,
                                            QueryFilter const& filter) const {
-  if (!bool(ray.origin.is_finite()) || !bool(ray.dir.is_finite()) || !(max_toi >= 0.0f)) return {};
+  if (!usable(ray, max_toi)) return {};
   sync_trees();
   std::optional<WorldRayHit> best;
   float limit = std::min(max_toi, big);

@@ -47,8 +47,7 @@ void World::find_pairs() {
     sort_and_sweep_.find_pairs(boxes_, keep, pairs_);
     return;
   }
-  trees_synced_ = false; // the step always syncs: bodies may have moved since a query
-  sync_trees();
+  sync_trees(); // a no-op when nothing changed since the last step's end
   dynamic_queriers_.clear();
   kinematic_queriers_.clear();
   for (std::uint32_t i : moving_bodies_) {
@@ -296,7 +295,8 @@ void World::step_with(float dt) {
   auto const t_finalize = clock::now();
   store_impulses(blocks);
   finalize_bodies();
-  trees_synced_ = false; // bodies moved: a query syncs the trees first
+  trees_synced_ = false; // bodies moved: the trees follow now (BVH), or at the first query
+  if (config_.broad_phase == BroadPhaseKind::bvh) sync_trees();
   profile_.finalize = seconds_since(t_finalize);
   profile_.total = seconds_since(t_start);
 }

@@ -838,3 +838,30 @@ TEST_CASE("aabb tree: infinite query bounds meet every leaf, NaN and inverted on
   CHECK(count({Vec3::splat(5.0f), Vec3::splat(4.0f)}) == 0); // inverted
   CHECK(count(Aabb3{}) == 0);                                // EMPTY
 }
+
+TEST_CASE("aabb tree: builds over centroid spreads that overflow or are subnormal",
+          "[spatial][tree][bad-input]") {
+  // Found in review: the binned build's scale (bins / spread) was 0 or infinite there, and a
+  // NaN bin index wrote outside the bins.
+  float const big = 2e38f, tiny = 1e-40f;
+  for (auto const& xs : {std::vector<float>{-big, big, 0.0f, big * 0.5f},
+                         std::vector<float>{0.0f, tiny, 2 * tiny, 3 * tiny, 5 * tiny}}) {
+    AabbTree tree;
+    std::vector<Aabb3> boxes;
+    for (float x : xs)
+      boxes.push_back({{x, 0, 0}, {x, 1, 1}});
+    std::vector<ProxyId> const ids = tree.insert_all(boxes);
+    CHECK(tree.validate() == "");
+    CHECK(tree.size() == xs.size());
+    std::size_t n = 0;
+    tree.query({Vec3{-std::numeric_limits<float>::infinity(), 0, 0},
+                Vec3{std::numeric_limits<float>::infinity(), 1, 1}},
+               [&](ProxyId) { return ++n > 0; });
+    CHECK(n == xs.size());
+    for (ProxyId id : ids) // moves to the other extreme, then every optimisation
+      tree.move(id, {{-xs[id % xs.size()], 0, 0}, {-xs[id % xs.size()], 1, 1}});
+    tree.optimize(TreeOptimization::partial_rebuild);
+    tree.rebuild();
+    CHECK(tree.validate() == "");
+  }
+}

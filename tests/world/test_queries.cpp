@@ -311,6 +311,22 @@ TEST_CASE("world queries: filters, layers, fresh poses, both broad phases, bad i
   CHECK(w.set_layers(b, {}) == BodyError::none);
   CHECK(w.set_layers(BodyId{99}, {}) == BodyError::bad_body);
   CHECK(w.layers(b).memberships == 1);
+  // A stale id in exclude excludes nothing, not the slot's new body (found in review).
+  {
+    World v;
+    BodyId const old = v.create_body({.type = BodyType::static_body, .shape = Sphere{1.0f}}).id;
+    REQUIRE(v.destroy_body(old) == BodyError::none);
+    BodyId const now = v.create_body({.type = BodyType::static_body, .shape = Sphere{1.0f}}).id;
+    REQUIRE(now.index == old.index);
+    BodyId const stale[] = {old};
+    auto const h = v.ray_cast({{0, 5, 0}, {0, -1, 0}}, 10.0f, {.exclude = stale});
+    REQUIRE(h);
+    CHECK(h->body == now);
+    BodyId const current[] = {now};
+    CHECK(!v.ray_cast({{0, 5, 0}, {0, -1, 0}}, 10.0f, {.exclude = current}));
+  }
+  // A zero direction finds nothing, also inside a half-space (the ground).
+  CHECK(!w.ray_cast({{3, -1, 3}, {0, 0, 0}}, 10.0f));
   // Bad input finds nothing and does not crash.
   float const nan = std::numeric_limits<float>::quiet_NaN();
   CHECK(!w.ray_cast({{nan, 0, 0}, {0, -1, 0}}, 10.0f));

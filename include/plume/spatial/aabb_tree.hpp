@@ -20,7 +20,9 @@
 //   adaptive         by the fraction f of moved leaves: f < 0.15 reinsert, f < 0.45 partial
 //                    rebuild, else full rebuild (Avian 0.6's thresholds).
 // Insertion finds the sibling of least SAH cost by branch and bound over the whole tree (the
-// exact optimum of that greedy step, not Box2D's single-path descent).
+// exact optimum of that greedy step, not Box2D's single-path descent). Identical boxes
+// inserted one by one all tie with the root and form a chain; insert_all() or rebuild()
+// balances them (a million boxes at one point give height ceil(log2 N)).
 //
 // Determinism: the tree is scalar code on S; the same operations in the same order give the
 // same tree (node for node) in every build, and queries report leaves in an order fixed by
@@ -180,7 +182,7 @@ private:
   };
   Proxy const& proxy(ProxyId id) const;
   std::uint32_t allocate_node();
-  void free_node(std::uint32_t n) noexcept;
+  void free_node(std::uint32_t n);
   void insert_leaf(std::uint32_t leaf);
   void remove_leaf(std::uint32_t leaf);
   std::uint32_t find_best_sibling(Box const& box);

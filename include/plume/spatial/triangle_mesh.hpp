@@ -67,7 +67,7 @@ enum class MeshError : std::uint8_t {
   index_out_of_range, ///< bad_item: the position in the index list
   non_finite_vertex,  ///< bad_item: the vertex
   all_degenerate,     ///< every triangle had zero area
-  too_many_triangles, ///< 2^31 or more
+  too_many_triangles, ///< 2^30 or more (edge references are 32-bit)
 };
 char const* to_string(MeshError e) noexcept;
 

@@ -75,7 +75,7 @@ public:
   explicit GWideBvh(GAabbTree<S> const& tree) { build(tree); }
 
   /// A copy of the tree's current shape and fat boxes. Throws std::length_error for proxy
-  /// ids of 2^31 or more.
+  /// ids of 2^31 - 1 or more.
   void build(GAabbTree<S> const& tree);
 
   bool empty() const noexcept { return nodes_.empty(); }
@@ -126,7 +126,9 @@ void GWideBvh<T, K>::build(GAabbTree<S> const& tree) {
   if (root == GAabbTree<S>::null_node) return;
   using BinNode = typename GAabbTree<S>::Node;
   auto const leaf_ref = [&](BinNode const& n) {
-    if (n.proxy >= leaf_bit) throw std::length_error("plume::GWideBvh: proxy id beyond 2^31");
+    // 0x7fffffff would spell empty_child with the leaf bit.
+    if (n.proxy >= leaf_bit - 1)
+      throw std::length_error("plume::GWideBvh: proxy id of 2^31 - 1 or more");
     ++leaves_;
     return leaf_bit | n.proxy;
   };

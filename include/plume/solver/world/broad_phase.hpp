@@ -103,6 +103,10 @@ public:
   /// What the moving tree's last optimisation ran.
   TreeOptimization last_optimization() const noexcept { return last_; }
 
+  /// Rebuilds the static tree if statics changed, optimises the moving tree (find_pairs
+  /// does this first; call it when the trees serve queries only).
+  void optimize();
+
 private:
   enum class Where : std::uint8_t { none, static_tree, moving_tree, unbounded };
   struct Slot {
@@ -110,7 +114,6 @@ private:
     ProxyId proxy = null_proxy;
     Aabb3 box;
   };
-  void optimize();
 
   AabbTree static_, moving_;
   std::vector<Slot> slots_;

@@ -171,9 +171,10 @@ struct BodyPair {
 
 /// What changed in the last step, each list in increasing pair order. A contact begins in the
 /// step its pair first has manifold points (within the speculative distance) and ends in the
-/// step it has none, or when a body is frozen or destroyed (destroy_body's ends are reported
-/// by the next step). A sensor overlap begins when the shapes first intersect (touching
-/// counts) and ends when they no longer do.
+/// step it has none, or when a body is destroyed (destroy_body's ends are reported by the next
+/// step); a body frozen in a step keeps a contact it still touches, as a static body. A sensor
+/// overlap begins when the shapes first intersect (touching counts) and ends when they no longer
+/// do.
 struct StepEvents {
   std::vector<BodyPair> contact_begin, contact_end;
   std::vector<BodyPair> sensor_begin, sensor_end;
@@ -271,9 +272,12 @@ public:
 
   // -------------------------------------------------------------- spatial queries
   // Exact queries on the bodies' shapes at their current poses, through the broad phase's
-  // trees (bodies created, moved or stepped since the last query are synced first). Every
-  // query takes a QueryFilter; non-finite input finds nothing. Reported in a deterministic
-  // order: by distance (toi) for the closest forms, by body index for the _all forms.
+  // trees. Every query takes a QueryFilter; non-finite input (and a zero ray direction) finds
+  // nothing. Reported in a deterministic order: by distance (toi) for the closest forms, by
+  // body index for the others. Threads: a step leaves the trees synced, so queries after
+  // step() only read; after create_body, set_pose or destroy_body (or with sort and sweep)
+  // the first query updates the trees, so do not run that one concurrently. A callback or
+  // predicate must not change the world.
 
   /// The closest body the ray hits within max_toi (ties: the lower body index).
   std::optional<WorldRayHit> ray_cast(Ray3 const& ray, float max_toi,
