@@ -75,12 +75,9 @@ std::vector<ProxyId> GAabbTree<S>::proxy_ids() const {
   return ids;
 }
 
+/// A proxy id (the last freed first) and its leaf node with the fat box, not yet linked.
 template <Float S>
-ProxyId GAabbTree<S>::insert(Box const& tight, std::uint64_t user) {
-  if (!box_usable(tight))
-    throw std::invalid_argument("plume::AabbTree::insert: the box has a NaN or infinite "
-                                "coordinate, or min > max on some axis");
-  if (live_ >= null_proxy - 1) throw std::length_error("plume::AabbTree: too many proxies");
+ProxyId GAabbTree<S>::new_leaf(Box const& tight, std::uint64_t user) {
   ProxyId id;
   if (!free_proxies_.empty()) {
     id = free_proxies_.back();
@@ -94,7 +91,17 @@ ProxyId GAabbTree<S>::insert(Box const& tight, std::uint64_t user) {
   nodes_[leaf].proxy = id;
   proxies_[id] = Proxy{tight, user, leaf, false};
   ++live_;
-  insert_leaf(leaf);
+  return id;
+}
+
+template <Float S>
+ProxyId GAabbTree<S>::insert(Box const& tight, std::uint64_t user) {
+  if (!box_usable(tight))
+    throw std::invalid_argument("plume::AabbTree::insert: the box has a NaN or infinite "
+                                "coordinate, or min > max on some axis");
+  if (live_ >= null_proxy - 1) throw std::length_error("plume::AabbTree: too many proxies");
+  ProxyId const id = new_leaf(tight, user);
+  insert_leaf(proxies_[id].leaf);
   return id;
 }
 
@@ -112,20 +119,7 @@ std::vector<ProxyId> GAabbTree<S>::insert_all(std::span<Box const> tight,
   proxies_.reserve(proxies_.size() + tight.size());
   nodes_.reserve(nodes_.size() + 2 * tight.size());
   for (std::size_t k = 0; k < tight.size(); ++k) {
-    ProxyId id;
-    if (!free_proxies_.empty()) {
-      id = free_proxies_.back();
-      free_proxies_.pop_back();
-    } else {
-      id = ProxyId(proxies_.size());
-      proxies_.push_back(Proxy{});
-    }
-    std::uint32_t const leaf = allocate_node();
-    nodes_[leaf].box = tight[k].grow(config_.margin_for(tight[k]));
-    nodes_[leaf].proxy = id;
-    proxies_[id] = Proxy{tight[k], k < user.size() ? user[k] : 0, leaf, false};
-    ++live_;
-    ids.push_back(id);
+    ids.push_back(new_leaf(tight[k], k < user.size() ? user[k] : 0));
   }
   rebuild(); // every leaf, old and new; forgets the moved leaves as rebuild() does
   return ids;

@@ -38,15 +38,8 @@ void BvhBroadPhase::set_box(std::uint32_t index, Aabb3 const& box, bool moving) 
                      : moving              ? Where::moving_tree
                                            : Where::static_tree;
   if (s.where != want) { // leave the old place, enter the new one
-    if (s.where == Where::static_tree) {
-      static_.remove(s.proxy);
-      static_changed_ = true;
-    } else if (s.where == Where::moving_tree) {
-      moving_.remove(s.proxy);
-    } else if (s.where == Where::unbounded) {
-      unbounded_.erase(std::find(unbounded_.begin(), unbounded_.end(), index));
-    }
-    s.proxy = null_proxy;
+    remove(index);
+    s.box = box;
     if (want == Where::static_tree) {
       s.proxy = static_.insert(box, index);
       static_changed_ = true;

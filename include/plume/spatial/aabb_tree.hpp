@@ -182,6 +182,7 @@ private:
   };
   Proxy const& proxy(ProxyId id) const;
   std::uint32_t allocate_node();
+  ProxyId new_leaf(Box const& tight, std::uint64_t user);
   void free_node(std::uint32_t n);
   void insert_leaf(std::uint32_t leaf);
   void remove_leaf(std::uint32_t leaf);
