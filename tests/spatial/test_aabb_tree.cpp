@@ -198,7 +198,7 @@ std::vector<ProxyId> first_ids(std::size_t k) {
 
 TEMPLATE_TEST_CASE("tree: random edit sequences keep every invariant and answer exactly",
                    "[spatial][tree]", float, double) {
-#if PLUME_TEST_WIDEST_ONLY
+#if PLUME_TEST_UNOPTIMISED
   long const ops = 10000; // the -O0 sanitizer build
 #else
   long const ops = 100000;
@@ -733,7 +733,7 @@ TEMPLATE_TEST_CASE("tree: a million proxies at one point", "[spatial][tree][extr
                    double) {
   using S = TestType;
   using Box = GAabb3<S>;
-#if PLUME_TEST_WIDEST_ONLY
+#if PLUME_TEST_UNOPTIMISED
   int const n = 200000; // the -O0 sanitizer build
 #else
   int const n = 1000000;

@@ -184,11 +184,7 @@ void check_all_arities(Scene<scalar_t<T>> const& s, Probe<scalar_t<T>> const& p,
   check_bvh<T, default_arity_v<T>>(s, p, nullptr);
 }
 
-#if PLUME_TEST_WIDEST_ONLY && PLUME_HAS_BATCHES
-using f64_list = type_list<double, f64xN>;
-#else
-using f64_list = plume::f64_types;
-#endif
+using f64_list = test::f64_types;
 
 } // namespace
 

@@ -1,5 +1,7 @@
 // Contact and sensor events: when they begin and end, what destroying a body reports, that a
 // sensor takes no contact response, and that the events are the same at every width.
+#include "../common/types.hpp"
+
 #include <fixtures/scenes.hpp>
 #include <plume/solver/world/world.hpp>
 
@@ -163,5 +165,6 @@ TEST_CASE("events: the same events at every width", "[world][events][determinism
   auto const scalar = run(std::type_identity<float>{});
   CHECK(std::count(scalar.begin(), scalar.end(), 0xffffffffffffffffull) == 480);
   CHECK(scalar.size() > 480 + 10); // events happened
-  for_each_type<f32_widths>([&]<class T>() { CHECK(run(std::type_identity<T>{}) == scalar); });
+  for_each_type<test::f32_wide_types>(
+      [&]<class T>() { CHECK(run(std::type_identity<T>{}) == scalar); });
 }

@@ -3,6 +3,8 @@
 // and bad input.
 #include "../common/harness.hpp"
 
+#include "../common/types.hpp"
+
 #include <fixtures/scenes.hpp>
 #include <plume/solver/world/world.hpp>
 
@@ -238,7 +240,8 @@ TEST_CASE("world: every solver width gives bitwise the same world", "[world][det
     return w.state_hash();
   };
   std::uint64_t const scalar = run(std::type_identity<float>{});
-  for_each_type<f32_widths>([&]<class T>() { CHECK(run(std::type_identity<T>{}) == scalar); });
+  for_each_type<test::f32_wide_types>(
+      [&]<class T>() { CHECK(run(std::type_identity<T>{}) == scalar); });
   // The same build run twice.
   CHECK(run(std::type_identity<float>{}) == scalar);
 }
@@ -443,6 +446,6 @@ TEST_CASE("world: destroying and creating mid-run gives the same world at every 
   };
   auto const scalar = run(std::type_identity<float>{}, BroadPhaseKind::bvh);
   CHECK(run(std::type_identity<float>{}, BroadPhaseKind::sort_and_sweep) == scalar);
-  for_each_type<f32_widths>(
+  for_each_type<test::f32_wide_types>(
       [&]<class T>() { CHECK(run(std::type_identity<T>{}, BroadPhaseKind::bvh) == scalar); });
 }
