@@ -1,6 +1,8 @@
 // plume/character.hpp - the character floor (target plume::character): moving a shape
 // through a set of contact planes, generic over the element type so that one call moves a
-// lane of characters at once. It asks nothing of the world or the contact solver.
+// lane of characters at once, and move_and_slide, which moves a shape through any scene that
+// models MoveQuery (the world's is WorldMoveQuery, in the world floor). It asks nothing of
+// the world or the contact solver.
 //
 // Every template over the element type T (or a vector of it) is G<Name>; the plain name is
 // the float form, D<Name> the double form. Configurations' scaled(length_unit) const gives
@@ -16,8 +18,12 @@
 //     GPenetration<Vec>             Penetration3, Penetration2 (input pairs)
 //     GDepenetration<Vec>           Depenetration3, Depenetration2 (results)
 //     GDepenetrationConfig<S>       DepenetrationConfig, DDepenetrationConfig
+//   move_and_slide, cast_move, depenetrate(query, ...)  (solver/character/move_and_slide.hpp)
+//     MoveQuery (the scene concept)  MoveCastHit<Id>, MoveContact<Id> (what a scene answers)
+//     MoveAndSlideConfig            MoveAndSlideResult<Id>, MoveHit<Id>, HitResponse
 #pragma once
 
 #include <plume/solver/character/depenetration.hpp>
+#include <plume/solver/character/move_and_slide.hpp>
 #include <plume/solver/character/plane_set.hpp>
 #include <plume/solver/character/velocity_projection.hpp>

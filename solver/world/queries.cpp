@@ -290,6 +290,25 @@ void World::overlap_shape(BodyShape const& shape, Iso3 const& pose,
   });
 }
 
+void World::contact_query(BodyShape const& shape, Iso3 const& pose, float distance,
+                          std::function<bool(BodyId, Manifold const&)> const& f,
+                          QueryFilter const& filter) const {
+  if (!pose.is_finite() || !(distance >= 0.0f) || !std::isfinite(distance) ||
+      std::holds_alternative<HalfSpace>(shape))
+    return;
+  Aabb3 const box = with_convex(shape, [&](auto const& q, bool) { return q.aabb(pose); });
+  if (!bool(box.min.is_finite()) || !bool(box.max.is_finite())) return;
+  ManifoldConfig cfg = config_.manifold;
+  cfg.prediction = distance;
+  std::vector<std::uint32_t> near;
+  candidates(box.grow(distance), filter, near);
+  for (std::uint32_t i : near) {
+    Manifold const m = detail::collide(bodies_[i].shape, bodies_[i].pose, shape, pose, cfg);
+    if (m.empty() || m.failed) continue;
+    if (!f(BodyId{i, bodies_[i].generation}, m)) return;
+  }
+}
+
 void World::point_query(Vec3 const& point, std::function<bool(BodyId)> const& f,
                         QueryFilter const& filter) const {
   if (!bool(point.is_finite())) return;

@@ -19,13 +19,13 @@ double seconds_since(clock::time_point t0) {
 bool finite(Vec3 const& v) { return v.is_finite(); }
 bool finite(Quat const& q) { return q.is_finite(); }
 
-Manifold collide(BodyShape const& a, Iso3 const& pa, BodyShape const& b, Iso3 const& pb,
-                 ManifoldConfig const& cfg) {
+} // namespace
+
+Manifold detail::collide(BodyShape const& a, Iso3 const& pa, BodyShape const& b, Iso3 const& pb,
+                         ManifoldConfig const& cfg) {
   return std::visit(
       [&](auto const& sa, auto const& sb) { return contact_manifold(sa, pa, sb, pb, cfg); }, a, b);
 }
-
-} // namespace
 
 Aabb3 World::grown_aabb(std::uint32_t i) const {
   if (!bodies_[i].alive) return Aabb3{}; // EMPTY: overlaps nothing
@@ -114,7 +114,7 @@ void World::collide_pairs() {
     Body const& a = bodies_[body_pair_first(pairs_[k])];
     Body const& b = bodies_[body_pair_second(pairs_[k])];
     found_[k] = {pairs_[k],
-                 collide(a.shape, a.pose, b.shape, b.pose, config_.manifold),
+                 detail::collide(a.shape, a.pose, b.shape, b.pose, config_.manifold),
                  std::sqrt(a.friction * b.friction),
                  std::max(a.restitution, b.restitution),
                  a.is_dynamic(),

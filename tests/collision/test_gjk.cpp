@@ -426,6 +426,9 @@ TEST_CASE("shape casts: skins, starting in contact, misses, bad input", "[collis
   lenient.stop_at_penetration = false;
   CHECK(!shape_cast(Sphere{1}, touching, Vec3{1, 0, 0}, wall, Iso3{}, lenient).hit);
   CHECK(shape_cast(Sphere{1}, touching, Vec3{-1, 0, 0}, wall, Iso3{}, lenient).hit);
+  // ... moving along the surface: it does not go further in, so the same rule as moving out.
+  CHECK(shape_cast(Sphere{1}, touching, Vec3{0, 1, 0}, wall, Iso3{}, cfg).hit);
+  CHECK(!shape_cast(Sphere{1}, touching, Vec3{0, 1, 0}, wall, Iso3{}, lenient).hit);
   // Deep penetration (cores overlap): toi 0, penetrating, zero normal.
   auto const deep = shape_cast(Cuboid{{1, 1, 1}}, Iso3{}, Vec3{1, 0, 0}, wall, Iso3{}, cfg);
   CHECK(deep.hit);

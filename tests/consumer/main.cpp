@@ -123,8 +123,27 @@ int main() {
   bool const spatial_ok = stayed && found == 1 && tree.validate().empty() && tree_hit.hit() &&
                           tree_hit.proxy == box_id && tree_hit.toi == 5.0f;
   std::printf("consumer: tree hit %u at %g\n", tree_hit.proxy, tree_hit.toi);
+  // The README's move-and-slide example: a capsule walks into a wall and slides along it.
+  World level;
+  level.create_body({.type = BodyType::static_body,
+                     .pose = Iso3::from_translation({0, -1.01f, 0}),
+                     .shape = HalfSpace{Vec3::Y}});
+  level.create_body({.type = BodyType::static_body,
+                     .pose = Iso3::from_translation({3, 0, 0}),
+                     .shape = Cuboid{Vec3{0.5f, 5, 5}}});
+  WorldMoveQuery const scene(level);
+  Vec3 feet{0, 0, 0};
+  for (int frame = 0; frame < 60; ++frame) {
+    auto const r = move_and_slide(scene, Capsule{0.5f, 0.5f}, Iso3::from_translation(feet),
+                                  Vec3{5, -1, 2}, 1.0f / 60.0f, {}, {},
+                                  [](MoveHit<BodyId>&) { return HitResponse::accept; });
+    feet = r.position;
+  }
+  bool const move_ok = std::abs(2.5f - (feet.x + 0.5f) - 0.01f) < 0.002f &&
+                       std::abs(feet.y) < 0.002f && std::abs(feet.z - 2.0f) < 0.05f;
+  std::printf("consumer: character at (%g, %g, %g)\n", feet.x, feet.y, feet.z);
   return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok && solver_ok &&
-          ray_ok && contact_ok && world_ok && spatial_ok)
+          ray_ok && contact_ok && world_ok && spatial_ok && move_ok)
              ? 0
              : 1;
 }

@@ -258,6 +258,77 @@ TEST_CASE("world queries: points, boxes and shapes against brute force", "[world
   CHECK(overlapped > 10);
 }
 
+TEST_CASE("world queries: contact_query reports every body within the distance, with its manifold",
+          "[world][queries]") {
+  World const w = random_scene(23, 120);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> at(-7.0f, 7.0f), h(0.0f, 5.0f);
+  Capsule const probe{0.4f, 0.3f};
+  float const distance = 0.1f;
+  int reported = 0;
+  for (int k = 0; k < 200; ++k) {
+    Iso3 const pose{Quat::from_rotation_x(at(rng)), {at(rng), h(rng), at(rng)}};
+    INFO("query " << k << " at " << pose.translation);
+    std::vector<std::uint32_t> got;
+    w.contact_query(probe, pose, distance, [&](BodyId id, Manifold const& m) {
+      got.push_back(id.index);
+      REQUIRE(!m.empty());
+      REQUIRE(m.normal.length() == Approx(1).epsilon(1e-4));
+      REQUIRE(m.min_separation() <= distance);
+      return true;
+    });
+    REQUIRE(std::is_sorted(got.begin(), got.end()));
+    reported += int(got.size());
+    // An independent oracle: the distance between the probe and each body.
+    for (std::uint32_t i = 0; i < w.body_count(); ++i) {
+      BodyShape const& s = w.shape(BodyId{i});
+      Iso3 const pb = w.pose(BodyId{i});
+      float d;
+      if (auto const* hs = std::get_if<HalfSpace>(&s)) {
+        Vec3 const n = pb.transform_vector(hs->normal);
+        Vec3 const deepest =
+            pose.transform_point(probe.core_support(pose.inverse_transform_vector(-n))) -
+            n * probe.core_radius();
+        d = n.dot(deepest - pb.translation);
+      } else {
+        d = std::visit(
+            [&](auto const& b) {
+              if constexpr (std::is_same_v<std::decay_t<decltype(b)>, HalfSpace>) {
+                return 0.0f;
+              } else {
+                ClosestPoints const c = closest_points(probe, pose, b, pb);
+                return c.overlap ? -1.0f : c.distance;
+              }
+            },
+            s);
+      }
+      bool const in = std::find(got.begin(), got.end(), i) != got.end();
+      INFO("body " << i << " at distance " << d);
+      if (d < distance - 1e-3f) REQUIRE(in);
+      if (d > distance + 1e-3f) REQUIRE(!in);
+    }
+  }
+  CHECK(reported > 50); // the scene is dense enough for the test to mean something
+  // Bad input finds nothing; f returning false stops.
+  int calls = 0;
+  auto const count = [&](BodyId, Manifold const&) {
+    ++calls;
+    return true;
+  };
+  float const nan = std::numeric_limits<float>::quiet_NaN();
+  w.contact_query(probe, Iso3::from_translation({nan, 0, 0}), distance, count);
+  w.contact_query(probe, Iso3::from_translation({0, 0.2f, 0}), -1.0f, count);
+  w.contact_query(probe, Iso3::from_translation({0, 0.2f, 0}), nan, count);
+  w.contact_query(HalfSpace{Vec3::Y}, Iso3{}, distance, count);
+  CHECK(calls == 0);
+  w.contact_query(Cuboid{Vec3::splat(6)}, Iso3::from_translation({0, 2, 0}), distance,
+                  [&](BodyId, Manifold const&) {
+                    ++calls;
+                    return false;
+                  });
+  CHECK(calls == 1);
+}
+
 TEST_CASE("world queries: filters, layers, fresh poses, both broad phases, bad input",
           "[world][queries]") {
   World w;

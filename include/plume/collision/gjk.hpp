@@ -108,7 +108,9 @@ struct ShapeCastConfig {
   float max_toi = 1.0f;         ///< in units of motion
   float target_distance = 0.0f; ///< report contact at this gap (a skin), length units
   /// A cast that starts within target_distance: true reports it (toi 0); false ignores it
-  /// when the motion separates the shapes (moving out along the contact normal).
+  /// when the motion does not move the shapes further in (it moves out along the contact
+  /// normal, or along the surface within 1e-3 rad: a character sliding along a wall it
+  /// touches).
   bool stop_at_penetration = true;
   GjkConfig gjk{};
 };
@@ -380,7 +382,11 @@ shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const
   GVec3<T> sep = -(c.pa - c.pb).normalize_or_zero();
   GVec3<T> normal =
       GVec3<T>::select(c.cores_overlap, GVec3<T>{}, GVec3<T>::select(c.started_inside, sep, n));
-  mask_t<T> separating = c.started_inside & (!c.cores_overlap) & (normal.dot(motion_a) < zero);
+  // Not moving further in: out along the contact normal, or along the surface (within 1e-3
+  // radians: the normal of a started-inside cast carries GJK's rounding, about 1e-5).
+  T nm = normal.dot(motion_a);
+  mask_t<T> along = (nm <= zero) | (nm * nm <= splat<T>(1e-6) * motion_a.dot(motion_a));
+  mask_t<T> separating = c.started_inside & (!c.cores_overlap) & along;
   mask_t<T> ignore = cfg.stop_at_penetration ? no_lanes<T>() : separating;
   out.hit = c.hit & (!ignore);
   out.toi = plume::select(out.hit, c.toi, infinity<T>());

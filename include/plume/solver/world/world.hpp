@@ -163,6 +163,12 @@ struct WorldPointHit {
   Vec3 point{};
 };
 
+namespace detail {
+/// The contact manifold of two body shapes (A toward B), as the step computes it.
+Manifold collide(BodyShape const& a, Iso3 const& pa, BodyShape const& b, Iso3 const& pb,
+                 ManifoldConfig const& cfg);
+} // namespace detail
+
 /// Two bodies in an event, the lower slot first (ids as they were when the event happened).
 struct BodyPair {
   BodyId a, b;
@@ -301,6 +307,14 @@ public:
   /// Bodies whose shapes intersect (touch or overlap) the convex shape at `pose`, exactly
   /// (GJK), by body index.
   void overlap_shape(BodyShape const& shape, Iso3 const& pose, std::function<bool(BodyId)> const& f,
+                     QueryFilter const& filter = {}) const;
+  /// The contact manifold of every body within `distance` (>= 0, length units) of the convex
+  /// shape (any BodyShape but HalfSpace) at `pose`, by body index: A is the body, B the shape
+  /// (normal out of the body toward the shape, separation negative when they overlap, only
+  /// points with separation <= distance). f returns false to stop. Non-finite input or a
+  /// negative distance finds nothing.
+  void contact_query(BodyShape const& shape, Iso3 const& pose, float distance,
+                     std::function<bool(BodyId, Manifold const&)> const& f,
                      QueryFilter const& filter = {}) const;
   /// Bodies whose shapes contain the point (surface included), by body index.
   void point_query(Vec3 const& point, std::function<bool(BodyId)> const& f,

@@ -1,0 +1,357 @@
+// plume/solver/character/move_and_slide.hpp - moves a shape by velocity * dt through a scene,
+// sliding along what it touches: the movement step of a kinematic character controller.
+//
+//   MoveAndSlideResult<Id> r = move_and_slide(query, shape, pose, velocity, dt, cfg, filter,
+//                                             on_hit);
+//   r.position, r.velocity (the projected velocity, to keep for the next frame), r.hits
+//
+// The scene is any MoveQuery provider (the concept below): the world's (WorldMoveQuery in
+// solver/world/move_query.hpp) or a user's own set of colliders. The loop (Avian 0.6's):
+//  1. depenetrate: the contacts within the skin become push-out pairs (depth = skin -
+//     separation), solved by depenetrate(); the shape moves by the fix;
+//  2. up to cfg.iterations sweeps: sweep = velocity * time left, stop when shorter than
+//     cfg.min_sweep. Cast the shape along it, cast length |sweep| + skin, initial overlaps
+//     that the motion leaves ignored; no hit: take the whole sweep and stop. A hit at cast
+//     distance d with normal n: move by max(d - skin / max(dir . -n, 0.005), 0) along the
+//     sweep (so the gap to the surface is the skin, measured along n: the + skin in the cast
+//     length keeps a character standing on a walkable slope from creeping down it). Then
+//     collect the contacts around the new position (every collider within
+//     cfg.plane_distance, 2 x skin by default: the deepest point of its contact manifold);
+//     the touched ones (separation <= skin + cfg.touch_tolerance), the sweep's plane and
+//     cfg.user_planes are merged within 5 degrees keeping the one most against the velocity
+//     (PlaneSet3), and the velocity is projected onto all of them at once (project_velocity);
+//  3. depenetrate once more.
+// Units: positions and skin in length units, velocity in length units per second, dt in
+// seconds; the shape keeps pose.rotation throughout. What is better than Avian's: every hit
+// the callback sees names the collider actually touched (a contact plane's own, not the
+// sweep's), distance is the real distance travelled to the hit, and a normal, position or
+// velocity the callback changes is honoured for every hit, the sweep's included. And a contact
+// not yet touched (between the skin and 2 x skin) does not clip the velocity, as Avian's does:
+// its plane, linearised at a distance, is a ghost (the edge of the next box of a flat floor,
+// seen from before the seam, tilts up and bumps the character over a seam that is not there);
+// the sweep's exact cast stops the shape at anything it would really reach.
+//
+// The callback, on_hit(MoveHit<Id>& hit) -> HitResponse, is called for the sweep's hit and
+// for each contact plane of every iteration (a floor touched during four sweeps is reported
+// four times), in the provider's order:
+//  - accept: the plane (hit.normal, which the callback may change) clips the velocity, if
+//    touched (hit.touching);
+//  - ignore: the plane does not clip (the sweep still stops at the hit);
+//  - abort: no more sweeps (the final depenetration still runs).
+// hit.position and hit.velocity are the shape's at that moment; changes are kept.
+//
+// Bad input: a non-finite pose, velocity or dt, or a negative dt, returns the input unchanged
+// with invalid_input set (nothing is queried). dt = 0 or a velocity below epsilon only
+// depenetrates. A sweep longer than cfg.max_move is shortened to it (a frame's movement is
+// capped, so a huge dt cannot carry a character across a level in one call). Every loop is
+// bounded: cfg.iterations sweeps, cfg.depenetration.iterations passes, at most
+// cfg.planes.max_planes planes. A sweep blocked at once by planes it cannot satisfy (an
+// acute wedge) leaves the velocity zero: the character stops, it does not jitter.
+#pragma once
+
+#include <plume/math/iso3.hpp>
+#include <plume/math/vec3.hpp>
+#include <plume/solver/character/depenetration.hpp>
+#include <plume/solver/character/plane_set.hpp>
+#include <plume/solver/character/velocity_projection.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <concepts>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <span>
+#include <vector>
+
+namespace plume {
+
+/// A provider's first hit of a cast: the fraction toi in [0, 1] of the motion at which the
+/// shape first touches the collider; the point on the collider; the unit normal out of the
+/// collider toward the shape.
+template <class Id>
+struct MoveCastHit {
+  Id collider;
+  float toi = 0.0f;
+  Vec3 point{};
+  Vec3 normal{};
+};
+
+/// A provider's contact: the deepest point of a collider's contact manifold with the shape.
+/// normal: unit, out of the collider toward the shape; separation: signed gap along it
+/// (negative = overlap); point: on the collider's surface.
+template <class Id>
+struct MoveContact {
+  Id collider;
+  Vec3 point{};
+  Vec3 normal{};
+  float separation = 0.0f;
+};
+
+namespace detail {
+/// The callable type MoveQuery::contacts is checked with: returns false to stop.
+template <class Id>
+struct move_contact_sink {
+  bool operator()(MoveContact<Id> const&) const { return true; }
+};
+} // namespace detail
+
+/// A scene that move_and_slide can move through.
+///  - cast(shape, pose, motion, filter): the first collider the shape at pose touches moving
+///    by t * motion, t in [0, 1] (target distance 0); a collider the shape already overlaps
+///    is ignored when the motion leaves it (moves out along the contact normal).
+///  - contacts(shape, pose, distance, filter, sink): every collider within `distance` of the
+///    shape, as a MoveContact each; sink returns false to stop. A deterministic order (the
+///    results of move_and_slide depend on it only through merges of equal planes).
+template <class Q>
+concept MoveQuery = requires(Q const& q, typename Q::shape_type const& shape, Iso3 const& pose,
+                             Vec3 const& motion, float distance,
+                             typename Q::filter_type const& filter,
+                             detail::move_contact_sink<typename Q::collider_id> sink) {
+  typename Q::collider_id;
+  {
+    q.cast(shape, pose, motion, filter)
+    } -> std::same_as<std::optional<MoveCastHit<typename Q::collider_id>>>;
+  q.contacts(shape, pose, distance, filter, sink);
+};
+
+/// Where a hit came from.
+enum class MoveHitKind : std::uint8_t {
+  sweep,   ///< the first thing a sweep hit
+  contact, ///< a contact plane collected after a sweep
+};
+
+/// What the callback answers for a hit.
+enum class HitResponse : std::uint8_t {
+  accept, ///< the plane clips the velocity
+  ignore, ///< the plane does not clip the velocity (a sweep still stops at its hit)
+  abort,  ///< stop sweeping after this hit (the final depenetration still runs)
+};
+
+/// One hit as the callback sees it (normal, position and velocity may be changed).
+template <class Id>
+struct MoveHit {
+  Id collider; ///< the collider touched
+  MoveHitKind kind = MoveHitKind::sweep;
+  int iteration = 0;       ///< the sweep it belongs to, from 0
+  Vec3 point{};            ///< on the collider's surface, world
+  Vec3 normal{};           ///< unit, out of the collider toward the shape; may be changed
+  Vec3 position{};         ///< the shape's position now (after the move to the hit)
+  Vec3 velocity{};         ///< the velocity now (before this hit clips it)
+  float distance = 0.0f;   ///< length travelled by this sweep to the hit (0 for contacts)
+  float separation = 0.0f; ///< the gap to the collider's surface (negative = overlap)
+  /// Within skin + touch_tolerance: only a touched plane clips the velocity (a sweep's hit is
+  /// always touched).
+  bool touching = true;
+};
+
+/// The loop's parameters (Avian 0.6's defaults, in length units of 1 m; scaled(unit) for
+/// other units).
+struct MoveAndSlideConfig {
+  int iterations = 4;           ///< sweeps at most
+  float skin = 0.01f;           ///< the gap kept to surfaces, length units
+  float plane_distance = 0.02f; ///< contacts are reported within this (2 x skin)
+  /// A contact clips the velocity only when touched: separation <= skin + touch_tolerance.
+  float touch_tolerance = 0.001f;
+  float min_sweep = 1e-4f; ///< sweeps shorter than this end the loop, length units
+  float max_move = 100.0f; ///< longest sweep, length units (huge dt is capped)
+  /// Planes added at every iteration (unit normals, e.g. an invisible floor); not copied:
+  /// the span must outlive the call.
+  std::span<Vec3 const> user_planes{};
+  DepenetrationConfig depenetration{};   ///< 16 passes, 1e-4 error, 0.5 rejection
+  PlaneSetConfig planes{};               ///< merge within 5 degrees, 20 planes at most
+  VelocityProjectionConfig projection{}; ///< epsilon 0.005 length units per second
+
+  /// This configuration with every length-valued field multiplied by length_unit.
+  MoveAndSlideConfig scaled(float length_unit) const noexcept {
+    MoveAndSlideConfig c = *this;
+    c.skin *= length_unit;
+    c.plane_distance *= length_unit;
+    c.touch_tolerance *= length_unit;
+    c.min_sweep *= length_unit;
+    c.max_move *= length_unit;
+    c.depenetration = c.depenetration.scaled(length_unit);
+    c.projection.epsilon *= length_unit;
+    return c;
+  }
+};
+
+/// The result of move_and_slide: where the shape ended and the velocity it keeps.
+template <class Id>
+struct MoveAndSlideResult {
+  /// Hits kept in the result (more are only reported to the callback).
+  static constexpr std::size_t max_hits = 16;
+
+  Vec3 position{};            ///< the shape's final position (pose.rotation is unchanged)
+  Vec3 velocity{};            ///< the projected velocity
+  int sweeps = 0;             ///< sweeps cast
+  bool aborted = false;       ///< a callback answered abort
+  bool invalid_input = false; ///< non-finite or negative input: nothing was done
+  bool depenetrated = true;   ///< both depenetrations converged (or had nothing to do)
+  std::array<MoveHit<Id>, max_hits> hits{}; ///< the accepted hits, in order
+  std::size_t hit_count = 0;
+  std::size_t hits_dropped = 0; ///< accepted hits beyond max_hits
+
+  std::span<MoveHit<Id> const> accepted() const noexcept { return {hits.data(), hit_count}; }
+};
+
+/// A callback that accepts every hit.
+struct AcceptAllHits {
+  template <class Hit>
+  HitResponse operator()(Hit&) const noexcept {
+    return HitResponse::accept;
+  }
+};
+
+/// The depenetration step of move_and_slide on its own: every contact within cfg.skin
+/// pushed out to the skin; returns the translation and whether it converged.
+template <MoveQuery Q>
+Depenetration3 depenetrate(Q const& query, typename Q::shape_type const& shape, Iso3 const& pose,
+                           MoveAndSlideConfig const& cfg = {},
+                           typename Q::filter_type const& filter = {}) {
+  std::vector<Penetration3> pairs;
+  query.contacts(shape, pose, cfg.skin, filter, [&](MoveContact<typename Q::collider_id> const& c) {
+    if (c.separation < cfg.skin) pairs.push_back({c.normal, cfg.skin - c.separation});
+    return true;
+  });
+  if (pairs.empty()) return {Vec3{}, true, 0.0f};
+  return plume::depenetrate(std::span<Penetration3 const>(pairs), cfg.depenetration);
+}
+
+/// The sweep of move_and_slide on its own: how far the shape can move along `motion` and
+/// keep cfg.skin to what it hits (`safe`, length units), and the hit.
+template <class Id>
+struct CastMove {
+  float safe = 0.0f; ///< length the shape may move along the motion
+  std::optional<MoveCastHit<Id>> hit;
+  float hit_distance = 0.0f; ///< cast distance to the hit (length units)
+  float approach = 0.0f;     ///< dir . -normal of the hit: how straight the motion goes in
+};
+
+template <MoveQuery Q>
+CastMove<typename Q::collider_id>
+cast_move(Q const& query, typename Q::shape_type const& shape, Iso3 const& pose, Vec3 const& motion,
+          MoveAndSlideConfig const& cfg = {}, typename Q::filter_type const& filter = {}) {
+  CastMove<typename Q::collider_id> out;
+  float const len = motion.length();
+  if (!(len > 0.0f) || !std::isfinite(len)) return out;
+  Vec3 const dir = motion / len;
+  out.hit = query.cast(shape, pose, dir * (len + cfg.skin), filter);
+  if (!out.hit) {
+    out.safe = len;
+    return out;
+  }
+  out.hit_distance = out.hit->toi * (len + cfg.skin);
+  out.approach = std::max(dir.dot(-out.hit->normal), 0.0f);
+  out.safe = std::clamp(out.hit_distance - cfg.skin / std::max(out.approach, 0.005f), 0.0f, len);
+  return out;
+}
+
+/// Moves the shape by velocity * dt through the query's scene (the file comment says how).
+template <MoveQuery Q, class OnHit = AcceptAllHits>
+MoveAndSlideResult<typename Q::collider_id>
+move_and_slide(Q const& query, typename Q::shape_type const& shape, Iso3 const& pose,
+               Vec3 const& velocity, float dt, MoveAndSlideConfig const& cfg = {},
+               typename Q::filter_type const& filter = {}, OnHit&& on_hit = {}) {
+  using Id = typename Q::collider_id;
+  MoveAndSlideResult<Id> r;
+  r.position = pose.translation;
+  r.velocity = velocity;
+  if (!bool(pose.is_finite()) || !bool(velocity.is_finite()) || !std::isfinite(dt) ||
+      !(dt >= 0.0f)) {
+    r.invalid_input = true;
+    return r;
+  }
+  auto const at = [&](Vec3 const& p) { return Iso3{pose.rotation, p}; };
+  auto const keep = [&](MoveHit<Id> const& h) {
+    if (r.hit_count < r.hits.size())
+      r.hits[r.hit_count++] = h;
+    else
+      ++r.hits_dropped;
+  };
+  Vec3 pos = pose.translation;
+  Vec3 v = velocity;
+
+  Depenetration3 const first = plume::depenetrate(query, shape, at(pos), cfg, filter);
+  pos = pos + first.correction;
+  r.depenetrated = bool(first.converged);
+
+  float time_left = dt;
+  for (int it = 0; it < cfg.iterations && !r.aborted; ++it) {
+    Vec3 sweep = v * time_left;
+    float len = sweep.length();
+    if (!(len >= cfg.min_sweep) || !std::isfinite(len)) break;
+    if (len > cfg.max_move) {
+      sweep = sweep * (cfg.max_move / len);
+      len = cfg.max_move;
+    }
+    ++r.sweeps;
+    CastMove<Id> const move = plume::cast_move(query, shape, at(pos), sweep, cfg, filter);
+    if (!move.hit) {
+      pos = pos + sweep;
+      time_left = 0.0f;
+      break;
+    }
+    pos = pos + sweep * (move.safe / len);
+    time_left = time_left * (1.0f - move.safe / len);
+
+    // The sweep's hit, then the contact planes around the new position.
+    MoveHit<Id> hit{move.hit->collider,
+                    MoveHitKind::sweep,
+                    it,
+                    move.hit->point,
+                    move.hit->normal,
+                    pos,
+                    v,
+                    move.safe,
+                    (move.hit_distance - move.safe) * move.approach};
+    HitResponse const answer = on_hit(hit);
+    pos = hit.position;
+    v = hit.velocity;
+    std::vector<Vec3> normals; // the accepted planes of this iteration
+    if (answer == HitResponse::abort) r.aborted = true;
+    if (answer == HitResponse::accept) {
+      normals.push_back(hit.normal);
+      keep(hit);
+    }
+    if (r.aborted) break;
+
+    std::vector<MoveHit<Id>> contacts;
+    query.contacts(shape, at(pos), cfg.plane_distance, filter, [&](MoveContact<Id> const& c) {
+      contacts.push_back({c.collider, MoveHitKind::contact, it, c.point, c.normal, pos, v, 0.0f,
+                          c.separation, c.separation <= cfg.skin + cfg.touch_tolerance});
+      return true;
+    });
+    for (MoveHit<Id>& c : contacts) {
+      c.position = pos;
+      c.velocity = v;
+      HitResponse const a = on_hit(c);
+      pos = c.position;
+      v = c.velocity;
+      if (a == HitResponse::accept && c.touching) {
+        normals.push_back(c.normal);
+        keep(c);
+      }
+      if (a == HitResponse::abort) {
+        r.aborted = true;
+        break;
+      }
+    }
+    normals.insert(normals.end(), cfg.user_planes.begin(), cfg.user_planes.end());
+    // Merged against the velocity the callbacks left, then projected onto all at once.
+    PlaneSet3 planes(v, cfg.planes);
+    for (Vec3 const& n : normals)
+      planes.add(n);
+    v = project_velocity(v, planes.normals(), cfg.projection).velocity;
+  }
+
+  Depenetration3 const last = plume::depenetrate(query, shape, at(pos), cfg, filter);
+  pos = pos + last.correction;
+  r.depenetrated = r.depenetrated && bool(last.converged);
+  r.position = pos;
+  r.velocity = v;
+  return r;
+}
+
+} // namespace plume

@@ -1,0 +1,65 @@
+// plume/solver/world/move_query.hpp - the world as a scene for move_and_slide (a MoveQuery,
+// solver/character/move_and_slide.hpp): casts through World::shape_cast, contact planes
+// through World::contact_query, both through the world's trees and its QueryFilter.
+//
+//   WorldMoveQuery scene(world);
+//   auto r = move_and_slide(scene, BodyShape{Capsule{0.5f, 0.5f}}, pose, velocity, dt, {},
+//                           QueryFilter{.exclude = own_body});
+//
+// The character is usually not a body of the world (a kinematic character moves itself); if
+// it is, exclude its own body in the filter. The world must outlive the query object, and
+// is only read (the first query after an edit may update the trees: World's query rules).
+#pragma once
+
+#include <plume/solver/character/move_and_slide.hpp>
+#include <plume/solver/world/world.hpp>
+
+#include <optional>
+
+namespace plume {
+
+class WorldMoveQuery {
+public:
+  using collider_id = BodyId;
+  using shape_type = BodyShape;
+  using filter_type = QueryFilter;
+
+  explicit WorldMoveQuery(World const& world) noexcept : world_(&world) {}
+
+  World const& world() const noexcept { return *world_; }
+
+  /// The first body the shape touches moving by t * motion, t in [0, 1]; bodies it overlaps
+  /// at the start are ignored when the motion leaves them.
+  std::optional<MoveCastHit<BodyId>> cast(BodyShape const& shape, Iso3 const& pose,
+                                          Vec3 const& motion, QueryFilter const& filter) const {
+    ShapeCastConfig cfg;
+    cfg.max_toi = 1.0f;
+    cfg.stop_at_penetration = false;
+    std::optional<WorldShapeHit> const h = world_->shape_cast(shape, pose, motion, cfg, filter);
+    if (!h) return std::nullopt;
+    return MoveCastHit<BodyId>{h->body, h->toi, h->point, h->normal};
+  }
+
+  /// The deepest point of each body's manifold with the shape within `distance`.
+  template <class Sink>
+  void contacts(BodyShape const& shape, Iso3 const& pose, float distance, QueryFilter const& filter,
+                Sink&& sink) const {
+    world_->contact_query(
+        shape, pose, distance,
+        [&](BodyId id, Manifold const& m) {
+          GContactPoint<float> const* deepest = m.begin();
+          for (auto const& c : m)
+            if (c.separation < deepest->separation) deepest = &c;
+          return bool(
+              sink(MoveContact<BodyId>{id, deepest->point_a, m.normal, deepest->separation}));
+        },
+        filter);
+  }
+
+private:
+  World const* world_;
+};
+
+static_assert(MoveQuery<WorldMoveQuery>);
+
+} // namespace plume

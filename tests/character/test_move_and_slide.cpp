@@ -1,0 +1,513 @@
+// move_and_slide through a world of static bodies (WorldMoveQuery): the scenarios of a robust
+// kinematic move (a capsule of radius 0.5 and half height 0.5, skin 0.01, dt 1/60, speed 5,
+// 100 frames unless said), each asserting the property it names, plus the callback's
+// contract and bad input.
+#include "../common/harness.hpp"
+
+#include <plume/solver/character/move_and_slide.hpp>
+#include <plume/solver/world/move_query.hpp>
+#include <plume/solver/world/world.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+using namespace plume;
+
+namespace {
+
+constexpr float dt = 1.0f / 60.0f;
+constexpr float skin = 0.01f;
+Capsule const capsule{0.5f, 0.5f}; // half height 0.5, radius 0.5: 2 m tall, bottom at y - 1
+
+BodyId add_box(World& w, Vec3 const& centre, Vec3 const& half, Quat const& rot = Quat::IDENTITY) {
+  return w
+      .create_body(
+          {.type = BodyType::static_body, .pose = Iso3{rot, centre}, .shape = Cuboid{half}})
+      .id;
+}
+
+BodyId add_floor(World& w, float y = -1.0f - skin) {
+  return w
+      .create_body({.type = BodyType::static_body,
+                    .pose = Iso3::from_translation({0, y, 0}),
+                    .shape = HalfSpace{Vec3::Y}})
+      .id;
+}
+
+/// A character that asks for the same velocity every frame, as a controller's input would.
+struct Walk {
+  std::vector<Vec3> path;                      // position after each frame
+  std::vector<Vec3> velocity;                  // projected velocity of each frame
+  std::vector<MoveAndSlideResult<BodyId>> log; // every frame's result
+};
+
+Walk walk(World const& w, Vec3 start, Vec3 desired, int frames = 100,
+          MoveAndSlideConfig const& cfg = {}, BodyShape const& shape = capsule) {
+  WorldMoveQuery const scene(w);
+  Walk out;
+  Vec3 p = start;
+  for (int f = 0; f < frames; ++f) {
+    auto const r = move_and_slide(scene, shape, Iso3::from_translation(p), desired, dt, cfg);
+    REQUIRE(!r.invalid_input);
+    REQUIRE(r.position.is_finite());
+    p = r.position;
+    out.path.push_back(p);
+    out.velocity.push_back(r.velocity);
+    out.log.push_back(r);
+  }
+  return out;
+}
+
+/// The largest distance between any position of the last `frames` frames and their first.
+float spread(Walk const& w, int frames = 50) {
+  float s = 0;
+  Vec3 const ref = w.path[w.path.size() - std::size_t(frames)];
+  for (std::size_t i = w.path.size() - std::size_t(frames); i < w.path.size(); ++i)
+    s = std::max(s, (w.path[i] - ref).length());
+  return s;
+}
+
+/// The signed gap between the capsule at p and the world's nearest body (negative: overlap).
+float gap(World const& w, Vec3 const& p) {
+  float best = std::numeric_limits<float>::infinity();
+  w.contact_query(capsule, Iso3::from_translation(p), 1.0f, [&](BodyId, Manifold const& m) {
+    best = std::min(best, m.min_separation());
+    return true;
+  });
+  return best;
+}
+
+Vec3 dir(float degrees) { // a horizontal unit direction, degrees from +x toward +z
+  float const a = degrees * std::numbers::pi_v<float> / 180.0f;
+  return {std::cos(a), 0, std::sin(a)};
+}
+
+} // namespace
+
+TEST_CASE("move and slide: head-on into a wall stops at the skin and does not creep",
+          "[character][move]") {
+  World w;
+  add_box(w, {3, 0, 0}, {0.5f, 5, 5}); // face at x = 2.5
+  Walk const r = walk(w, {0, 0, 0}, {5, 0, 0});
+  float const g = 2.5f - (r.path.back().x + 0.5f);
+  CHECK(g >= 0.5f * skin);
+  CHECK(g <= 2.0f * skin);
+  CHECK(spread(r) < 1e-6f);
+  CHECK(r.velocity.back().length() < 0.01f); // the wall takes the whole velocity
+  CHECK(r.path.back().y == 0.0f);
+  CHECK(r.path.back().z == 0.0f);
+}
+
+TEST_CASE("move and slide: 45 degrees into a wall slides at the tangential speed",
+          "[character][move]") {
+  World w;
+  add_box(w, {3, 0, 0}, {0.5f, 5, 50});
+  Walk const r = walk(w, {2.0f - skin, 0, -20}, dir(45) * 5.0f);
+  float const tangential = 5.0f * std::sin(std::numbers::pi_v<float> / 4);
+  float const dz = r.path[99].z - r.path[49].z;
+  CHECK(dz == Approx(tangential * 50 * dt).epsilon(1e-3));
+  float const g = 2.5f - (r.path.back().x + 0.5f);
+  CHECK(g >= 0.5f * skin);
+  CHECK(g <= 2.0f * skin);
+  CHECK(r.velocity.back().x == Approx(0).margin(0.01));
+  CHECK(r.velocity.back().z == Approx(tangential).epsilon(1e-3));
+}
+
+TEST_CASE("move and slide: a 90 degree inside corner stops without jitter", "[character][move]") {
+  World w;
+  add_box(w, {3, 0, 0}, {0.5f, 5, 5}); // x = 2.5
+  add_box(w, {0, 0, 3}, {5, 5, 0.5f}); // z = 2.5
+  Walk const r = walk(w, {0, 0, 0}, dir(45) * 5.0f);
+  CHECK(spread(r) < 1e-5f);
+  CHECK(r.path.back().x + 0.5f <= 2.5f);
+  CHECK(r.path.back().z + 0.5f <= 2.5f);
+  CHECK(r.path.back().x + 0.5f >= 2.5f - 2 * skin);
+  CHECK(r.path.back().z + 0.5f >= 2.5f - 2 * skin);
+}
+
+TEST_CASE("move and slide: a floor and two walls stop a move into all three", "[character][move]") {
+  World w;
+  add_floor(w);
+  add_box(w, {3, 0, 0}, {0.5f, 5, 5});
+  add_box(w, {0, 0, 3}, {5, 5, 0.5f});
+  Walk const r = walk(w, {0, 0, 0}, Vec3{3, -3, 3});
+  CHECK(spread(r) < 1e-5f);
+  CHECK(r.velocity.back().length() < 0.01f);
+  CHECK(r.path.back().y >= -skin);
+  CHECK(r.path.back().y <= skin);
+}
+
+TEST_CASE("move and slide: jumping into a two-wall corner keeps the vertical speed exactly",
+          "[character][move]") {
+  World w;
+  add_box(w, {3, 0, 0}, {0.5f, 50, 5});
+  add_box(w, {0, 0, 3}, {5, 50, 0.5f});
+  Walk const r = walk(w, {1.9f, 0, 1.9f}, Vec3{3, 4, 3}, 60);
+  for (std::size_t f = 0; f < r.velocity.size(); ++f) {
+    INFO("frame " << f);
+    REQUIRE(r.velocity[f].y == 4.0f);
+  }
+  CHECK(r.path.back().y == Approx(4.0f * 60 * dt).epsilon(1e-4));
+  CHECK(std::abs(r.velocity.back().x) < 0.01f);
+  CHECK(std::abs(r.velocity.back().z) < 0.01f);
+}
+
+TEST_CASE("move and slide: a wall-floor crease slides along it and stays on the floor",
+          "[character][move]") {
+  World w;
+  add_floor(w);
+  add_box(w, {3, 0, 0}, {0.5f, 5, 50});
+  Walk const r = walk(w, {1.99f - skin, 0, -20}, Vec3{2, -3, 4});
+  float const dz = r.path[99].z - r.path[49].z;
+  CHECK(dz == Approx(4.0f * 50 * dt).epsilon(1e-3));
+  for (Vec3 const& p : r.path) {
+    REQUIRE(p.y >= -skin);
+    REQUIRE(p.y <= skin);
+    REQUIRE(p.x + 0.5f <= 2.5f);
+  }
+}
+
+TEST_CASE("move and slide: V-shaped walls stop a move into the apex or slide along one wall, "
+          "never alternating",
+          "[character][move]") {
+  for (float half_angle : {20.0f, 35.0f, 60.0f}) { // acute to obtuse
+    INFO("half angle " << half_angle);
+    World w;
+    // Two walls meeting at x = 6 on the x axis, each half_angle away from the -x direction.
+    for (float side : {-1.0f, 1.0f}) {
+      float const a = (180.0f - side * half_angle) * std::numbers::pi_v<float> / 180.0f;
+      Vec3 const along{std::cos(a), 0, std::sin(a)};        // from the apex back along the wall
+      Vec3 const out_n = Vec3{-along.z, 0, along.x} * side; // into the wedge's inside
+      Vec3 const centre = Vec3{6, 0, 0} + along * 5.0f - out_n * 0.5f;
+      float const yaw = -std::atan2(along.z, along.x);
+      add_box(w, centre, {5, 5, 0.5f}, Quat::from_rotation_y(yaw));
+    }
+    // Straight into the apex: stops.
+    Walk const straight = walk(w, {0, 0, 0}, {5, 0, 0}, 160);
+    CHECK(spread(straight) < 1e-5f);
+    CHECK(gap(w, straight.path.back()) >= 0.0f);
+    // At an angle: one wall takes it and the move never flips from one wall to the other (z
+    // grows until the first wall deflects it toward the apex, then only shrinks).
+    Walk const slanted = walk(w, {0, 0, 0.2f}, dir(10) * 5.0f, 160);
+    int flips = 0;
+    for (std::size_t f = 2; f < slanted.path.size(); ++f) {
+      float const a = slanted.path[f].z - slanted.path[f - 1].z;
+      float const b = slanted.path[f - 1].z - slanted.path[f - 2].z;
+      if (a * b < 0 && std::abs(a) > 1e-5f && std::abs(b) > 1e-5f) ++flips;
+    }
+    CHECK(flips <= 1); // the one turn where the first wall deflects it, then no more
+    CHECK(gap(w, slanted.path.back()) >= 0.0f);
+  }
+}
+
+TEST_CASE("move and slide: a crawlspace wedge never squeezes the character through",
+          "[character][move]") {
+  World w;
+  add_floor(w);
+  // A ceiling sloping down toward +x: its underside at y = 1.6 - 0.2 x.
+  float const slope = std::atan(0.2f);
+  Quat const tilt = Quat::from_rotation_z(-slope);
+  Vec3 const n = tilt.mul_vec3(Vec3{0, -1, 0}); // the underside's normal
+  Vec3 const c = Vec3{0, 1.6f, 0} - n * 0.5f;
+  add_box(w, c, {20, 0.5f, 5}, tilt);
+  Walk const r = walk(w, {0, 0, 0}, Vec3{5, -1, 0}, 150);
+  for (Vec3 const& p : r.path) {
+    REQUIRE(gap(w, p) >= -1e-4f);
+  }
+  // The capsule (2 m tall) fits where the gap to the floor is at least 2 m: x <= 3 minus what
+  // its round top gains.
+  CHECK(r.path.back().x < 3.2f);
+  CHECK(spread(r) < 1e-4f);
+}
+
+TEST_CASE("move and slide: a floor-to-ramp crease climbs smoothly", "[character][move]") {
+  World w;
+  add_floor(w);
+  float const angle = 20.0f * std::numbers::pi_v<float> / 180.0f;
+  // A slab whose top face rises from the floor at x = 2 with the given angle.
+  Quat const tilt = Quat::from_rotation_z(angle);
+  Vec3 const top_n = tilt.mul_vec3(Vec3::Y);
+  Vec3 const along = tilt.mul_vec3(Vec3::X);
+  Vec3 const c = Vec3{2, -1 - skin, 0} + along * 10.0f - top_n * 0.5f; // flush with the floor
+  add_box(w, c, {10, 0.5f, 5}, tilt);
+  Walk const r = walk(w, {0, 0, 0}, Vec3{5, 0, 0}, 100);
+  float prev_speed = 0;
+  for (std::size_t f = 1; f < r.path.size(); ++f) {
+    INFO("frame " << f);
+    Vec3 const step = r.path[f] - r.path[f - 1];
+    REQUIRE(step.y >= -1e-5f);                              // never drops
+    REQUIRE(step.length() <= 5.0f * dt * 1.001f);           // never launched
+    if (f > 5) REQUIRE(step.length() >= 0.5f * prev_speed); // no sudden stop
+    prev_speed = step.length();
+  }
+  CHECK(r.path.back().y > 1.0f); // it got onto the ramp
+  CHECK(gap(w, r.path.back()) >= 0.0f);
+}
+
+TEST_CASE("move and slide: standing still on a slope does not drift", "[character][move]") {
+  World w;
+  float const angle = 30.0f * std::numbers::pi_v<float> / 180.0f;
+  Quat const tilt = Quat::from_rotation_z(angle);
+  add_box(w, tilt.mul_vec3(Vec3{0, -0.5f, 0}), {20, 0.5f, 5}, tilt); // top face through 0
+  Vec3 const n = tilt.mul_vec3(Vec3::Y);
+  // The upright capsule's bottom sphere (centre 0.5 below the middle) at the skin.
+  Vec3 const start = n * (0.5f + skin) + Vec3{0, 0.5f, 0};
+  REQUIRE(gap(w, start) == Approx(skin).margin(1e-5));
+  // Nothing asked, and a caller pressing the character into the slope along its normal (gravity
+  // cancelled but for a stick-to-ground push): neither slides it down the slope.
+  for (Vec3 const v : {Vec3{}, n * -0.5f}) {
+    Walk const r = walk(w, start, v, 100);
+    CHECK((r.path.back() - start).length() < 1e-4f);
+    CHECK(gap(w, r.path.back()) >= 0.0f);
+  }
+}
+
+TEST_CASE("move and slide: seams between adjacent boxes do not bump the character up",
+          "[character][move]") {
+  World w;
+  for (int i = -5; i < 30; ++i)
+    add_box(w, {float(i), -1.5f - skin, 0}, {0.5f, 0.5f, 5}); // top faces at y = -1 - skin
+  Walk const r = walk(w, {0, 0, 0}, Vec3{5, -2, 0});
+  for (Vec3 const& p : r.path) {
+    REQUIRE(p.y <= skin);
+    REQUIRE(p.y >= -skin);
+  }
+  CHECK(r.path.back().x == Approx(100 * 5 * dt).epsilon(1e-3));
+}
+
+TEST_CASE("move and slide: a thin wall at high speed is never tunnelled", "[character][move]") {
+  World w;
+  add_box(w, {10, 0, 0}, {0.025f, 5, 5}); // 5 cm thick
+  for (float speed : {50.0f, 500.0f, 5000.0f}) {
+    INFO("speed " << speed);
+    Walk const r = walk(w, {0, 0, 0}, {speed, 0, 0}, 30);
+    for (Vec3 const& p : r.path)
+      REQUIRE(p.x + 0.5f <= 9.975f);
+  }
+}
+
+TEST_CASE("move and slide: a corridor exactly as wide as the character passes at full speed",
+          "[character][move]") {
+  World w;
+  add_box(w, {0, 0, 1.0f}, {50, 5, 0.5f});  // z = 0.5
+  add_box(w, {0, 0, -1.0f}, {50, 5, 0.5f}); // z = -0.5
+  Walk const r = walk(w, {0, 0, 0}, {5, 0, 0});
+  CHECK(r.path.back().x == Approx(100 * 5 * dt).epsilon(1e-4));
+  // Both walls ask for the skin and cannot both have it: the character stays within the
+  // skin of the middle (depenetration's opposing planes alternate, bounded).
+  for (Vec3 const& p : r.path)
+    REQUIRE(std::abs(p.z) <= skin * 1.001f);
+}
+
+TEST_CASE("move and slide: a start in overlap is separated after one call", "[character][move]") {
+  World w;
+  add_box(w, {1, 0, 0}, {0.5f, 5, 5}); // face at x = 0.5; the capsule reaches x = 0.8
+  WorldMoveQuery const scene(w);
+  Vec3 const start{0.3f, 0, 0};
+  REQUIRE(gap(w, start) < -0.2f);
+  auto const r =
+      move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation(start), Vec3{}, dt);
+  CHECK(r.depenetrated);
+  CHECK(gap(w, r.position) >= 0.5f * skin);
+  CHECK(r.position.x < start.x);
+}
+
+TEST_CASE("move and slide: moving away from a wall does not stick", "[character][move]") {
+  World w;
+  add_box(w, {3, 0, 0}, {0.5f, 5, 5});
+  Vec3 const start{2.0f - skin, 0, 0};
+  Walk const r = walk(w, start, {-5, 0, 0}, 10);
+  CHECK(r.path[0].x == Approx(start.x - 5 * dt).epsilon(1e-5));
+  CHECK(r.path.back().x == Approx(start.x - 50 * dt).epsilon(1e-5));
+  CHECK(r.log[0].hit_count == 0);
+}
+
+TEST_CASE("move and slide: dense nearly parallel planes are merged and the move stays bounded",
+          "[character][move]") {
+  World w;
+  // 40 thin boxes whose faces toward the character are within 3 degrees of each other.
+  for (int i = 0; i < 40; ++i) {
+    float const yaw = (float(i) / 39.0f - 0.5f) * 3.0f * std::numbers::pi_v<float> / 180.0f;
+    add_box(w, {2.6f + 0.0001f * float(i), 0, 0}, {0.1f, 5, 5}, Quat::from_rotation_y(yaw));
+  }
+  WorldMoveQuery const scene(w);
+  std::size_t most = 0;
+  Vec3 p{};
+  for (int f = 0; f < 60; ++f) {
+    std::size_t accepted = 0;
+    auto const r = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation(p),
+                                  Vec3{5, 0, 1}, dt, {}, {}, [&](MoveHit<BodyId>&) {
+                                    ++accepted;
+                                    return HitResponse::accept;
+                                  });
+    p = r.position;
+    most = std::max(most, accepted);
+    REQUIRE(gap(w, p) >= -1e-4f);
+  }
+  CHECK(most > 10);         // many planes were offered ...
+  CHECK(p.x + 0.5f < 2.5f); // ... and none was crossed
+}
+
+TEST_CASE("move and slide: a velocity below epsilon leaves the character in place",
+          "[character][move]") {
+  World w;
+  add_floor(w);
+  Walk const r = walk(w, {0, 0, 0}, {1e-4f, 0, 0}, 10);
+  CHECK(std::abs(r.path.back().y) < 1e-6f);
+  CHECK(std::abs(r.path.back().x) < 1e-4f);
+  CHECK(r.log.back().sweeps == 0);
+}
+
+TEST_CASE("move and slide: the callback sees the collider touched and its changes are kept",
+          "[character][move][callback]") {
+  World w;
+  BodyId const floor = add_floor(w);
+  BodyId const wall = add_box(w, {3, 0, 0}, {0.5f, 5, 5});
+  WorldMoveQuery const scene(w);
+  Iso3 const start = Iso3::from_translation({1.9f, 0, 0});
+  std::vector<MoveHit<BodyId>> seen;
+  auto const r = move_and_slide(scene, BodyShape{capsule}, start, Vec3{6, -1, 0}, dt, {}, {},
+                                [&](MoveHit<BodyId>& h) {
+                                  seen.push_back(h);
+                                  return HitResponse::accept;
+                                });
+  REQUIRE(!seen.empty());
+  CHECK(seen[0].kind == MoveHitKind::sweep);
+  bool floor_seen = false, wall_seen = false;
+  for (auto const& h : seen) {
+    floor_seen = floor_seen || h.collider == floor;
+    wall_seen = wall_seen || h.collider == wall;
+    CHECK(h.normal.length() == Approx(1).epsilon(1e-5));
+    if (h.collider == wall) CHECK(h.normal.x == Approx(-1).margin(1e-4));
+    if (h.collider == floor) CHECK(h.normal.y == Approx(1).margin(1e-4));
+  }
+  CHECK(floor_seen);
+  CHECK(wall_seen);
+  // The sweep's distance is the real distance travelled to the hit, not the cast length.
+  Vec3 const v{6, -1, 0};
+  CHECK(seen[0].distance < v.length() * dt);
+  CHECK(seen[0].distance >= 0.0f);
+  CHECK(r.hit_count == seen.size());
+
+  // ignore: the plane does not clip; the sweep still stops at the hit.
+  auto const ignored =
+      move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({0, 0, 0}), Vec3{200, 0, 0},
+                     dt, {}, {}, [&](MoveHit<BodyId>& h) {
+                       return h.collider == wall ? HitResponse::ignore : HitResponse::accept;
+                     });
+  CHECK(ignored.velocity.x == 200.0f);
+  CHECK(ignored.position.x + 0.5f <= 2.5f);
+  CHECK(ignored.position.x + 0.5f >= 2.5f - 2 * skin);
+  for (auto const& h : ignored.accepted())
+    CHECK(h.collider == floor);
+
+  // abort: stops at the first hit.
+  int calls = 0;
+  auto const aborted = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({0, 0, 0}),
+                                      Vec3{200, 0, 200}, dt, {}, {}, [&](MoveHit<BodyId>&) {
+                                        ++calls;
+                                        return HitResponse::abort;
+                                      });
+  CHECK(aborted.aborted);
+  CHECK(calls == 1);
+  CHECK(aborted.sweeps == 1);
+  CHECK(aborted.position.x + 0.5f <= 2.5f);
+
+  // A changed normal is honoured for the sweep's hit: turn the wall into a floor-like plane.
+  auto const bent = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({1.9f, 2, 0}),
+                                   Vec3{6, 0, 0}, dt, {}, {}, [&](MoveHit<BodyId>& h) {
+                                     if (h.collider == wall)
+                                       h.normal = Vec3{-std::sqrt(0.5f), std::sqrt(0.5f), 0};
+                                     return HitResponse::accept;
+                                   });
+  CHECK(bent.velocity.y > 2.0f); // deflected upward along the changed plane
+  // A changed velocity and position are kept.
+  auto const moved = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({1.9f, 2, 0}),
+                                    Vec3{6, 0, 0}, dt, {}, {}, [&](MoveHit<BodyId>& h) {
+                                      if (h.kind == MoveHitKind::sweep) {
+                                        h.velocity = Vec3{0, 0, 3}; // along the wall
+                                        h.position = Vec3{0, 2, 0};
+                                      }
+                                      return HitResponse::accept;
+                                    });
+  // The rest of the frame (a tenth of it) moves along z from the new position.
+  CHECK(moved.velocity.x == 0.0f);
+  CHECK(moved.velocity.y == 0.0f);
+  CHECK(moved.velocity.z == 3.0f);
+  CHECK(moved.position.x == Approx(0).margin(1e-6));
+  CHECK(moved.position.z > 0.0f);
+  CHECK(moved.position.z < 3.0f * dt);
+}
+
+TEST_CASE("move and slide: bad input", "[character][move][bad-input]") {
+  World w;
+  add_floor(w);
+  WorldMoveQuery const scene(w);
+  float const nan = std::numeric_limits<float>::quiet_NaN();
+  float const inf = std::numeric_limits<float>::infinity();
+  Iso3 const at = Iso3::from_translation({0, 0, 0});
+  int calls = 0;
+  auto const counting = [&](MoveHit<BodyId>&) {
+    ++calls;
+    return HitResponse::accept;
+  };
+  for (float bad : {nan, inf, -1.0f}) {
+    auto const a =
+        move_and_slide(scene, BodyShape{capsule}, at, Vec3{1, 0, 0}, bad, {}, {}, counting);
+    CHECK(a.invalid_input);
+    CHECK(a.position.x == 0.0f);
+    CHECK(a.velocity.x == 1.0f);
+  }
+  auto const b = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({nan, 0, 0}),
+                                Vec3{1, 0, 0}, dt, {}, {}, counting);
+  CHECK(b.invalid_input);
+  auto const c =
+      move_and_slide(scene, BodyShape{capsule}, at, Vec3{inf, 0, 0}, dt, {}, {}, counting);
+  CHECK(c.invalid_input);
+  CHECK(c.velocity.x == inf); // returned unchanged
+  CHECK(calls == 0);
+  // dt = 0: only depenetrates.
+  auto const d = move_and_slide(scene, BodyShape{capsule}, at, Vec3{5, 0, 0}, 0.0f);
+  CHECK(!d.invalid_input);
+  CHECK(d.sweeps == 0);
+  CHECK(d.position.x == 0.0f);
+  // A huge dt is capped at max_move per sweep.
+  MoveAndSlideConfig cfg;
+  cfg.max_move = 10.0f;
+  auto const e = move_and_slide(scene, BodyShape{capsule}, at, Vec3{5, 0, 0}, 1e6f, cfg);
+  CHECK(e.position.x <= 10.0f * float(cfg.iterations) + 1e-3f);
+  CHECK(e.position.x > 0.0f);
+  // A zero-size shape still moves and stops.
+  World walls;
+  add_box(walls, {3, 0, 0}, {0.5f, 5, 5});
+  Walk const dot = walk(walls, {0, 0, 0}, {5, 0, 0}, 60, {}, BodyShape{Sphere{0.0f}});
+  CHECK(dot.path.back().x <= 2.5f);
+  CHECK(dot.path.back().x >= 2.5f - 2 * skin);
+  // A callback that aborts at once still depenetrates.
+  World deep;
+  add_box(deep, {1, 0, 0}, {0.5f, 5, 5});
+  auto const f = move_and_slide(WorldMoveQuery(deep), BodyShape{capsule},
+                                Iso3::from_translation({0.3f, 0, 0}), Vec3{5, 0, 0}, dt, {}, {},
+                                [](MoveHit<BodyId>&) { return HitResponse::abort; });
+  CHECK(f.aborted);
+  CHECK(gap(deep, f.position) >= 0.5f * skin);
+}
+
+TEST_CASE("move and slide: config scaled to centimetres gives the same path, scaled",
+          "[character][move]") {
+  World m, cm;
+  add_box(m, {3, 0, 0}, {0.5f, 5, 50});
+  add_box(cm, {300, 0, 0}, {50, 500, 5000});
+  MoveAndSlideConfig const cfg_cm = MoveAndSlideConfig{}.scaled(100.0f);
+  Walk const a = walk(m, {0, 0, 0}, dir(30) * 5.0f, 60);
+  Walk const b = walk(cm, {0, 0, 0}, dir(30) * 500.0f, 60, cfg_cm, BodyShape{Capsule{50, 50}});
+  for (std::size_t f = 0; f < a.path.size(); ++f) {
+    INFO("frame " << f);
+    REQUIRE((b.path[f] * 0.01f - a.path[f]).length() < 1e-3f);
+  }
+}
