@@ -21,8 +21,11 @@
 //   move_and_slide, cast_move, depenetrate(query, ...)  (solver/character/move_and_slide.hpp)
 //     MoveQuery (the scene concept)  MoveCastHit<Id>, MoveContact<Id> (what a scene answers)
 //     MoveAndSlideConfig            MoveAndSlideResult<Id>, MoveHit<Id>, HitResponse
+//   ColliderSetQuery<Shape>       a span of Colliders as a scene  (solver/character/collider_set.hpp)
+//     Collider, ColliderShape, ColliderFilter
 #pragma once
 
+#include <plume/solver/character/collider_set.hpp>
 #include <plume/solver/character/depenetration.hpp>
 #include <plume/solver/character/move_and_slide.hpp>
 #include <plume/solver/character/plane_set.hpp>

@@ -1,9 +1,10 @@
 // move_and_slide through a world of static bodies (WorldMoveQuery): the scenarios of a robust
 // kinematic move (a capsule of radius 0.5 and half height 0.5, skin 0.01, dt 1/60, speed 5,
-// 100 frames unless said), each asserting the property it names, plus the callback's
-// contract and bad input.
+// 100 frames unless said), each asserting the property it names; the callback's contract; bad
+// input; and a user's collider span (ColliderSetQuery) giving the world's path bit for bit.
 #include "../common/harness.hpp"
 
+#include <plume/solver/character/collider_set.hpp>
 #include <plume/solver/character/move_and_slide.hpp>
 #include <plume/solver/world/move_query.hpp>
 #include <plume/solver/world/world.hpp>
@@ -510,4 +511,69 @@ TEST_CASE("move and slide: config scaled to centimetres gives the same path, sca
     INFO("frame " << f);
     REQUIRE((b.path[f] * 0.01f - a.path[f]).length() < 1e-3f);
   }
+}
+
+TEST_CASE("move and slide: a ColliderSetQuery gives the world's path, bit for bit",
+          "[character][move][collider-set]") {
+  // The same static boxes and a hull as world bodies and as a user's collider span.
+  std::vector<Collider> level = {
+      {Cuboid{Vec3{20, 0.5f, 20}}, Iso3::from_translation({0, -1.5f - skin, 0})},
+      {Cuboid{Vec3{0.5f, 3, 6}}, Iso3::from_translation({4, 0, 0})},
+      {Cuboid{Vec3{6, 3, 0.5f}}, Iso3::from_translation({0, 0, 4})},
+      {Cuboid{Vec3{3, 0.5f, 3}}, Iso3{Quat::from_rotation_z(0.3f), {-5, -1.2f, 0}}},
+      {ConvexHull::build(std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}).hull,
+       Iso3::from_translation({-2, -1, -3})},
+  };
+  World w;
+  for (Collider const& c : level)
+    w.create_body({.type = BodyType::static_body,
+                   .pose = c.pose,
+                   .shape = std::visit([](auto const& s) { return BodyShape{s}; }, c.shape)});
+  ColliderSetQuery<Capsule> const set(level);
+  WorldMoveQuery const world(w);
+  Vec3 a{0, 0, 0}, b{0, 0, 0};
+  std::vector<std::uint32_t> touched;
+  for (int f = 0; f < 240; ++f) {
+    float const t = float(f) * dt;
+    Vec3 const desired{5 * std::cos(0.7f * t), -2, 5 * std::sin(1.3f * t)};
+    auto const ra =
+        move_and_slide(world, BodyShape{capsule}, Iso3::from_translation(a), desired, dt, {}, {},
+                       [](MoveHit<BodyId>&) { return HitResponse::accept; });
+    auto const rb = move_and_slide(set, capsule, Iso3::from_translation(b), desired, dt, {}, {},
+                                   [&](MoveHit<std::uint32_t>& h) {
+                                     touched.push_back(h.collider);
+                                     return HitResponse::accept;
+                                   });
+    a = ra.position;
+    b = rb.position;
+    INFO("frame " << f);
+    REQUIRE(a.x == b.x);
+    REQUIRE(a.y == b.y);
+    REQUIRE(a.z == b.z);
+    REQUIRE(ra.velocity.x == rb.velocity.x);
+    REQUIRE(ra.hit_count == rb.hit_count);
+  }
+  std::sort(touched.begin(), touched.end());
+  touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+  CHECK(touched.size() >= 3); // the floor and both walls at least
+
+  // Filters: an excluded or masked-out wall is walked through.
+  std::uint32_t const wall[] = {1};
+  auto const through = move_and_slide(set, capsule, Iso3::from_translation({2.9f, 0, 0}),
+                                      Vec3{60, 0, 0}, dt, {}, {.exclude = wall});
+  CHECK(through.position.x > 3.5f);
+  level[1].layers = 2;
+  auto const masked = move_and_slide(set, capsule, Iso3::from_translation({2.9f, 0, 0}),
+                                     Vec3{60, 0, 0}, dt, {}, {.mask = 1});
+  CHECK(masked.position.x > 3.5f);
+  auto const blocked =
+      move_and_slide(set, capsule, Iso3::from_translation({2.9f, 0, 0}), Vec3{60, 0, 0}, dt);
+  CHECK(blocked.position.x + 0.5f <= 3.5f);
+  // A collider with a non-finite pose is never hit; a non-finite query finds nothing.
+  level[1].pose.translation.x = std::numeric_limits<float>::quiet_NaN();
+  auto const bad =
+      move_and_slide(set, capsule, Iso3::from_translation({2.9f, 0, 0}), Vec3{60, 0, 0}, dt);
+  CHECK(bad.position.x > 3.5f);
+  CHECK(!set.cast(capsule, Iso3::from_translation({std::numeric_limits<float>::infinity(), 0, 0}),
+                  Vec3{1, 0, 0}, {}));
 }
