@@ -64,9 +64,29 @@ def show(name, coeffs, maxerr, kind):
             print(f"    {float(c):.17e},")
 
 
+def f32(v):
+    """v rounded to float (round to nearest even), as a Python float."""
+    import struct
+    return struct.unpack("f", struct.pack("f", float(v)))[0]
+
+
 def fit(name, f, a, b, deg, kind, w=None):
     c, e = remez(f, a, b, deg, w)
     show(name, c, e, kind)
+
+
+def fit_asin(kind, deg):
+    """asin's kernel R(u) = z P(z), u = 4z (z = s^2 <= 1/4), minimising the error of
+    s + s z P(z) relative to s (weight z: what reaches the result). Coefficients are
+    rounded to the type, then scaled exactly by 4^-(k+1) for the variable u; printed as
+    hexadecimal literals, highest degree first."""
+    c, e = remez(P_asin, mp.mpf(0), mp.mpf(1) / 4, deg, w=lambda z: z if z > 0 else eps)
+    r = [f32(x) if kind == "f" else float(x) for x in c]
+    print(f"// asin {'float' if kind == 'f' else 'double'}: relative error of s + s z P(z)"
+          f" 2^{mp.nstr(mp.log(e, 2), 4)}")
+    for k in reversed(range(deg + 1)):
+        v = r[k] / 4 ** (k + 1)
+        print(f"    {v.hex()}{'f' if kind == 'f' else ''},")
 
 
 eps = mp.mpf(10) ** -30
@@ -89,7 +109,7 @@ t8 = mp.tan(mp.pi / 8)
 jobs = {
     # name: (kernel, interval, float degree, double degree); the degrees are the
     # smallest that keep the kernel's share of the final error under 0.1 ulp.
-    "asin": (P_asin, 0, mp.mpf(1) / 4, 5, 13),
+    # asin: fit_asin (another weight and variable), degrees 4 and 11
     "atan": (P_atan, 0, t8 ** 2, 5, 10),
     "exp": (P_exp, -mp.log(2) / 2, mp.log(2) / 2, 4, 10),
     "exp2": (P_exp2, -mp.mpf(1) / 2, mp.mpf(1) / 2, 6, 11),
@@ -100,8 +120,12 @@ jobs = {
 }
 if __name__ == "__main__":
     import sys
-    which = sys.argv[1:] or list(jobs)
+    which = sys.argv[1:] or list(jobs) + ["asin"]
     for name in which:
+        if name == "asin":
+            fit_asin("f", 4)
+            fit_asin("d", 11)
+            continue
         f, a, b, df, dd = jobs[name]
         fit(name + " float", f, mp.mpf(a), mp.mpf(b), df, "f")
         fit(name + " double", f, mp.mpf(a), mp.mpf(b), dd, "d")

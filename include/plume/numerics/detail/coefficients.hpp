@@ -61,9 +61,14 @@ struct math_constants<float> {
   static constexpr float tan_poly[] = {3.843601865e-03f, 1.184472096e-03f, 9.962731904e-03f,
                                        2.162094216e-02f, 5.399449117e-02f, 1.333323081e-01f,
                                        3.333333398e-01f};
-  // asin(s) = s + s z P(z), z = s^2 <= 1/4; fit: relative error 2.09e-8 (2^-25.51)
-  static constexpr float asin_poly[] = {3.379971946e-02f, 1.708165018e-02f, 3.111532090e-02f,
-                                        4.459810756e-02f, 7.500098524e-02f, 1.666666632e-01f};
+  // asin(s) = s + s R, R = z P(z) = u Q(u), z = s^2 <= 1/4, u = 4z (Q's coefficients are P's
+  // scaled by 4^-(k+1), exactly); fit: error of s + s R relative to s 2^-27.59
+  static constexpr float asin_poly[] = {0x1.59dac2p-15f, 0x1.8ba26p-14f, 0x1.748c64p-11f,
+                                        0x1.33014ep-8f, 0x1.5555cap-5f};
+  // asin for |x| > 1/2 is asin_pio2_part + ((asin_one_up - 2s) + (pio2_lo - 2sR)):
+  // asin_pio2_part + asin_one_up = pio2_hi exactly, 2s <= 1 is subtracted exactly from
+  // asin_one_up (the float above 1) for 2s >= 1/2, and at s = 0 the sum is pio2_hi.
+  static constexpr float asin_one_up = 0x1.000002p+0f, asin_pio2_part = 0x1.243f68p-1f;
   // atan(t) = t + t z P(z), z = t^2 <= tan(pi/8)^2; fit: relative error 1.59e-9 (2^-29.23)
   static constexpr float atan_poly[] = {5.051923183e-02f,  -8.626306881e-02f, 1.107161127e-01f,
                                         -1.428416640e-01f, 1.999997759e-01f,  -3.333333328e-01f};
@@ -135,13 +140,14 @@ struct math_constants<double> {
       1.45582332440429463e-03,  3.59212902344727266e-03,  8.86323547229556606e-03,
       2.18694885381831919e-02,  5.39682539682165632e-02,  1.33333333333333609e-01,
       3.33333333333333315e-01};
-  // asin(s) = s + s z P(z), z = s^2 <= 1/4; fit: relative error 4.84e-18 (2^-57.52)
+  // asin(s) = s + s R, R = z P(z) = u Q(u), z = s^2 <= 1/4, u = 4z; fit: error of s + s R
+  // relative to s 2^-55.87
   static constexpr double asin_poly[] = {
-      2.97437058627213549e-02, -1.94550993885154802e-02, 1.97074667512490143e-02,
-      2.98107544008920739e-03, 9.33672106532177325e-03,  9.61872922376068827e-03,
-      1.15668472027354724e-02, 1.39637470163225669e-02,  1.73528184209951024e-02,
-      2.23721573747623879e-02, 3.03819444770264090e-02,  4.46428571425350404e-02,
-      7.50000000000012462e-02, 1.66666666666666657e-01};
+      0x1.05cedae728263p-29, -0x1.0af6771943d37p-28, 0x1.40b30b6a5b7a1p-26, 0x1.aab1c0c97cfd2p-26,
+      0x1.8ee4e73c3a658p-23, 0x1.c6f87267b4cbcp-21,  0x1.1c6c28693c2d9p-18, 0x1.6e89ef6c7c029p-16,
+      0x1.f1c72c6dfa4dep-14, 0x1.6db6db41d1496p-11,  0x1.333333336f8dbp-8,  0x1.5555555555387p-5};
+  static constexpr double asin_one_up = 0x1.0000000000001p+0,
+                          asin_pio2_part = 0x1.243f6a8885a2ep-1; // as for float
   // atan(t) = t + t z P(z), z = t^2 <= tan(pi/8)^2; fit: relative error 9.29e-17 (2^-53.26)
   static constexpr double atan_poly[] = {
       -1.91945036017889016e-02, 3.92468058220015736e-02,  -5.08600343638232061e-02,
@@ -173,5 +179,12 @@ struct math_constants<double> {
                                            1.81818183355180379e-01, 2.22222222216552329e-01,
                                            2.85714285714293692e-01, 4.00000000000000022e-01};
 };
+
+template <class S>
+constexpr bool asin_split_exact =
+    math_constants<S>::asin_pio2_part + math_constants<S>::asin_one_up ==
+    math_constants<S>::pio2_hi&& math_constants<S>::pi_hi ==
+    2 * math_constants<S>::pio2_hi&& math_constants<S>::pi_lo == 2 * math_constants<S>::pio2_lo;
+static_assert(asin_split_exact<float> && asin_split_exact<double>);
 
 } // namespace plume::detail

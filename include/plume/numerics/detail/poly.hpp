@@ -4,7 +4,9 @@
 
 #include <plume/numerics/functions.hpp>
 
+#include <bit>
 #include <cstddef>
+#include <iterator>
 
 PLUME_MASK_CODE_BEGIN
 
@@ -17,6 +19,32 @@ PLUME_INLINE T horner(T x, S const (&c)[N]) noexcept {
   for (std::size_t i = 1; i < N; ++i)
     r = plume::mul_add(r, x, splat<T>(c[i]));
   return r;
+}
+
+/// Coefficients B .. B+N-1 from the lowest degree of c (highest first) as a polynomial in x,
+/// Estrin's scheme: low part + x^m high part, m the largest power of two <= (N+1)/2, with
+/// pw[k] = x^(2^k).
+template <std::size_t B, std::size_t N, class T, class S, std::size_t M>
+PLUME_INLINE T estrin_part(T const* pw, S const (&c)[M]) noexcept {
+  if constexpr (N == 1) {
+    return splat<T>(c[M - 1 - B]);
+  } else {
+    constexpr std::size_t m = std::bit_floor((N + 1) / 2);
+    constexpr int k = std::countr_zero(m);
+    return plume::mul_add(estrin_part<B + m, N - m>(pw, c), pw[k], estrin_part<B, m>(pw, c));
+  }
+}
+
+/// c[0] x^(N-1) + ... + c[N-1] by Estrin's scheme: the same operation count as Horner's give
+/// or take the powers of x, but a dependency chain of about log2(N) multiply-adds instead of
+/// N - 1 (rounded differently from horner, so the two are not interchangeable).
+template <class T, class S, std::size_t N>
+PLUME_INLINE T estrin(T x, S const (&c)[N]) noexcept {
+  T pw[std::bit_width((N + 1) / 2)];
+  pw[0] = x;
+  for (std::size_t k = 1; k < std::size(pw); ++k)
+    pw[k] = pw[k - 1] * pw[k - 1];
+  return estrin_part<0, N>(pw, c);
 }
 
 /// Lanes of T scaled by 2^n for integer-valued n in the range of the exponent field
