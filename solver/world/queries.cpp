@@ -199,7 +199,10 @@ std::optional<WorldShapeHit> World::shape_cast(BodyShape const& shape, Iso3 cons
         float const gap = plane.height(deepest) - cfg.target_distance;
         float const closing = -plane.normal.dot(motion);
         if (gap <= 0.0f) {
-          hit = cfg.stop_at_penetration || closing > 0.0f;
+          // As the GJK cast: a start in contact is ignored when the motion leaves the plane
+          // or runs along it within 1e-3 rad.
+          hit = cfg.stop_at_penetration || closing * closing > 1e-6f * motion.dot(motion);
+          hit = hit && (cfg.stop_at_penetration || closing > 0.0f);
           h.toi = 0.0f;
           h.penetrating = true;
         } else if (closing > 0.0f && gap <= closing * cfg.max_toi) {

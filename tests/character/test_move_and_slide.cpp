@@ -299,10 +299,12 @@ TEST_CASE("move and slide: a corridor exactly as wide as the character passes at
   add_box(w, {0, 0, -1.0f}, {50, 5, 0.5f}); // z = -0.5
   Walk const r = walk(w, {0, 0, 0}, {5, 0, 0});
   CHECK(r.path.back().x == Approx(100 * 5 * dt).epsilon(1e-4));
-  // Both walls ask for the skin and cannot both have it: the character stays within the
-  // skin of the middle (depenetration's opposing planes alternate, bounded).
-  for (Vec3 const& p : r.path)
-    REQUIRE(std::abs(p.z) <= skin * 1.001f);
+  // Both walls ask for the skin and cannot both have it: the character stays in the middle,
+  // touching both (the mean of the last two depenetration passes), and never jitters.
+  for (Vec3 const& p : r.path) {
+    REQUIRE(std::abs(p.z) <= 1e-4f);
+    REQUIRE(gap(w, p) >= -1e-4f);
+  }
 }
 
 TEST_CASE("move and slide: a start in overlap is separated after one call", "[character][move]") {
@@ -337,7 +339,8 @@ TEST_CASE("move and slide: dense nearly parallel planes are merged and the move 
     add_box(w, {2.6f + 0.0001f * float(i), 0, 0}, {0.1f, 5, 5}, Quat::from_rotation_y(yaw));
   }
   WorldMoveQuery const scene(w);
-  std::size_t most = 0;
+  std::size_t most = 0, planes = 0;
+  bool overflowed = false;
   Vec3 p{};
   for (int f = 0; f < 60; ++f) {
     std::size_t accepted = 0;
@@ -348,9 +351,15 @@ TEST_CASE("move and slide: dense nearly parallel planes are merged and the move 
                                   });
     p = r.position;
     most = std::max(most, accepted);
+    planes = std::max(planes, r.planes);
+    overflowed = overflowed || r.planes_overflowed;
     REQUIRE(gap(w, p) >= -1e-4f);
+    REQUIRE(r.planes <= PlaneSetConfig{}.max_planes);
   }
-  CHECK(most > 10);         // many planes were offered ...
+  CHECK(most > 10);     // many planes were offered ...
+  CHECK(planes < most); // ... merged into fewer (all within 3 degrees of each other) ...
+  CHECK(planes >= 1);
+  CHECK(!overflowed);
   CHECK(p.x + 0.5f < 2.5f); // ... and none was crossed
 }
 
@@ -392,6 +401,7 @@ TEST_CASE("move and slide: the callback sees the collider touched and its change
   // The sweep's distance is the real distance travelled to the hit, not the cast length.
   Vec3 const v{6, -1, 0};
   CHECK(seen[0].distance < v.length() * dt);
+  CHECK(seen[0].distance == Approx((seen[0].position - start.translation).length()).margin(1e-6));
   CHECK(seen[0].distance >= 0.0f);
   CHECK(r.hit_count == seen.size());
 
@@ -418,6 +428,7 @@ TEST_CASE("move and slide: the callback sees the collider touched and its change
   CHECK(calls == 1);
   CHECK(aborted.sweeps == 1);
   CHECK(aborted.position.x + 0.5f <= 2.5f);
+  CHECK(aborted.position.x + 0.5f >= 2.5f - 2 * skin); // it did move up to the hit
 
   // A changed normal is honoured for the sweep's hit: turn the wall into a floor-like plane.
   auto const bent = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({1.9f, 2, 0}),
@@ -497,6 +508,81 @@ TEST_CASE("move and slide: bad input", "[character][move][bad-input]") {
                                 [](MoveHit<BodyId>&) { return HitResponse::abort; });
   CHECK(f.aborted);
   CHECK(gap(deep, f.position) >= 0.5f * skin);
+}
+
+TEST_CASE("move and slide: user planes hold from the first sweep, hit or not",
+          "[character][move][user-planes]") {
+  World empty;
+  WorldMoveQuery const scene(empty);
+  Vec3 const up[] = {Vec3::Y}; // an invisible floor through the character's position
+  MoveAndSlideConfig cfg;
+  cfg.user_planes = up;
+  Vec3 p{};
+  for (int f = 0; f < 30; ++f) {
+    auto const r = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation(p),
+                                  Vec3{5, -3, 0}, dt, cfg);
+    p = r.position;
+    REQUIRE(r.velocity.y >= -cfg.projection.epsilon);
+    REQUIRE(p.y >= -1e-5f);
+  }
+  CHECK(p.x == Approx(30 * 5 * dt).epsilon(1e-4));
+}
+
+TEST_CASE("move and slide: a start deep inside is pushed out over calls, never swept through",
+          "[character][move][deep]") {
+  World w;
+  add_box(w, {0, 0, 0}, {1, 1, 1});
+  Capsule const small{0.3f, 0.3f};
+  Vec3 p{0.2f, 0, 0}; // the capsule's core inside the box, 1.1 from the +x face
+  bool pushed_out = false;
+  for (int f = 0; f < 10; ++f) {
+    auto const r = move_and_slide(WorldMoveQuery(w), BodyShape{small}, Iso3::from_translation(p),
+                                  Vec3{-5, 0, 0}, dt); // walking inward
+    INFO("frame " << f);
+    if (f == 0) CHECK(r.deep_start);
+    if (r.deep_start) {
+      CHECK(r.sweeps == 0);
+      CHECK(r.position.x > p.x); // out through the nearest face, against the walk
+    }
+    p = r.position;
+    pushed_out = pushed_out || !r.deep_start;
+  }
+  CHECK(pushed_out);
+  CHECK(p.x - 0.3f >= 1.0f);            // outside the box's +x face ...
+  CHECK(p.x - 0.3f <= 1.0f + 2 * skin); // ... and then held at it by the walk
+}
+
+TEST_CASE("move and slide: callbacks that set NaN, and |v| dt beyond a float",
+          "[character][move][bad-input]") {
+  World w;
+  add_box(w, {3, 0, 0}, {0.5f, 5, 5});
+  WorldMoveQuery const scene(w);
+  float const nan = std::numeric_limits<float>::quiet_NaN();
+  auto const r = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({1.9f, 0, 0}),
+                                Vec3{6, 0, 0}, dt, {}, {}, [&](MoveHit<BodyId>& h) {
+                                  h.position = Vec3{nan, 0, 0};
+                                  h.velocity = Vec3{nan, nan, nan};
+                                  h.normal = Vec3{nan, 0, 0};
+                                  return HitResponse::accept;
+                                });
+  CHECK(r.position.is_finite());
+  CHECK(r.velocity.is_finite());
+  CHECK(r.position.x + 0.5f <= 2.5f);
+  // ... also when the callback then aborts (no projection runs after it).
+  auto const a = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({1.9f, 0, 0}),
+                                Vec3{6, 0, 0}, dt, {}, {}, [&](MoveHit<BodyId>& h) {
+                                  h.velocity = Vec3{nan, nan, nan};
+                                  return HitResponse::abort;
+                                });
+  CHECK(a.aborted);
+  CHECK(a.velocity.is_finite());
+  // |v| dt overflows: the call still moves, at most iterations x max_move.
+  World open;
+  auto const far =
+      move_and_slide(WorldMoveQuery(open), BodyShape{capsule}, Iso3{}, Vec3{1e4f, 0, 0}, 1e36f);
+  CHECK(!far.invalid_input);
+  CHECK(far.position.x > 0.0f);
+  CHECK(far.position.x <= MoveAndSlideConfig{}.max_move * 4 + 1e-3f);
 }
 
 TEST_CASE("move and slide: config scaled to centimetres gives the same path, scaled",

@@ -41,10 +41,13 @@
 // hit.position and hit.velocity are the shape's at that moment; changes are kept.
 //
 // Bad input: a non-finite pose, velocity or dt, or a negative dt, returns the input unchanged
-// with invalid_input set (nothing is queried). dt = 0 or a velocity below epsilon only
-// depenetrates. A sweep longer than cfg.max_move is shortened to it (a frame's movement is
-// capped, so a huge dt cannot carry a character across a level in one call). Every loop is
-// bounded: cfg.iterations sweeps, cfg.depenetration.iterations passes, at most
+// with invalid_input set (nothing is queried). dt = 0, or a sweep shorter than cfg.min_sweep
+// (1e-4: under 6 mm/s at 60 Hz), only depenetrates. Each sweep is at most cfg.max_move long, so
+// a call moves at most iterations x max_move whatever dt is (|v| dt beyond a float's range
+// included). A shape that starts deeper than the depenetration's rejection threshold in
+// something is pushed out by that much per call and does not sweep (deep_start). A callback
+// that sets a non-finite position or velocity is not followed (the previous value is kept). Every
+// loop is bounded: cfg.iterations sweeps, cfg.depenetration.iterations passes, at most
 // cfg.planes.max_planes planes. A sweep blocked at once by planes it cannot satisfy (an
 // acute wedge) leaves the velocity zero: the character stops, it does not jitter.
 #pragma once
@@ -100,7 +103,8 @@ struct move_contact_sink {
 /// A scene that move_and_slide can move through.
 ///  - cast(shape, pose, motion, filter): the first collider the shape at pose touches moving
 ///    by t * motion, t in [0, 1] (target distance 0); a collider the shape already overlaps
-///    is ignored when the motion leaves it (moves out along the contact normal).
+///    is ignored when the motion leaves it or runs along its surface (within about 1e-3 rad;
+///    stopping there would stop a character touching both walls of a corridor its width).
 ///  - contacts(shape, pose, distance, filter, sink): every collider within `distance` of the
 ///    shape, as a MoveContact each; sink returns false to stop. A deterministic order (the
 ///    results of move_and_slide depend on it only through merges of equal planes).
@@ -189,6 +193,11 @@ struct MoveAndSlideResult {
   bool aborted = false;       ///< a callback answered abort
   bool invalid_input = false; ///< non-finite or negative input: nothing was done
   bool depenetrated = true;   ///< both depenetrations converged (or had nothing to do)
+  /// The shape started deeper than cfg.depenetration.rejection_threshold in something: it
+  /// was pushed out by that much and did not sweep (it gets out over a few calls).
+  bool deep_start = false;
+  std::size_t planes = 0;         ///< planes of the last projection, after merging
+  bool planes_overflowed = false; ///< a projection was offered more than max_planes planes
   std::array<MoveHit<Id>, max_hits> hits{}; ///< the accepted hits, in order
   std::size_t hit_count = 0;
   std::size_t hits_dropped = 0; ///< accepted hits beyond max_hits
@@ -204,19 +213,65 @@ struct AcceptAllHits {
   }
 };
 
+/// The contacts around the shape at `pose`: every collider within `distance` (length units)
+/// as the deepest point of its manifold, in the scene's order; f(MoveContact<Id> const&)
+/// returns false to stop. move_and_slide's contact planes and depenetration use it.
+template <MoveQuery Q, class F>
+void intersections(Q const& query, typename Q::shape_type const& shape, Iso3 const& pose,
+                   float distance, typename Q::filter_type const& filter, F&& f) {
+  query.contacts(shape, pose, distance, filter, f);
+}
+
+/// The result of depenetrate(query, ...).
+struct MoveDepenetration {
+  Vec3 correction{};     ///< the translation to apply
+  bool converged = true; ///< a pass moved less than cfg.depenetration.max_error (or no pairs)
+  bool deep = false;     ///< a contact was deeper than cfg.depenetration.rejection_threshold
+};
+
 /// The depenetration step of move_and_slide on its own: every contact within cfg.skin
-/// pushed out to the skin; returns the translation and whether it converged.
+/// pushed out to the skin (depenetrate() over the pairs). A contact deeper than
+/// cfg.depenetration.rejection_threshold is pushed by that much only (`deep`), so a shape
+/// that starts deep inside is pushed out over several calls instead of being left there. Pairs
+/// that cannot all be satisfied (a corridor narrower than the shape plus two skins) get the
+/// mean of the fixes along one more pass (for two opposing planes, the push halfway between
+/// them) instead of whichever plane the last pass happened to end on.
 template <MoveQuery Q>
-Depenetration3 depenetrate(Q const& query, typename Q::shape_type const& shape, Iso3 const& pose,
-                           MoveAndSlideConfig const& cfg = {},
-                           typename Q::filter_type const& filter = {}) {
+MoveDepenetration depenetrate(Q const& query, typename Q::shape_type const& shape, Iso3 const& pose,
+                              MoveAndSlideConfig const& cfg = {},
+                              typename Q::filter_type const& filter = {}) {
   std::vector<Penetration3> pairs;
+  MoveDepenetration out;
+  float const limit = cfg.depenetration.rejection_threshold;
   query.contacts(shape, pose, cfg.skin, filter, [&](MoveContact<typename Q::collider_id> const& c) {
-    if (c.separation < cfg.skin) pairs.push_back({c.normal, cfg.skin - c.separation});
+    if (!(c.separation < cfg.skin)) return true;
+    float depth = cfg.skin - c.separation;
+    if (depth > limit) {
+      out.deep = true;
+      depth = limit;
+    }
+    pairs.push_back({c.normal, depth});
     return true;
   });
-  if (pairs.empty()) return {Vec3{}, true, 0.0f};
-  return plume::depenetrate(std::span<Penetration3 const>(pairs), cfg.depenetration);
+  if (pairs.empty()) return out;
+  std::span<Penetration3 const> const view(pairs);
+  Depenetration3 const d = plume::depenetrate(view, cfg.depenetration);
+  out.correction = d.correction;
+  out.converged = bool(d.converged);
+  if (!out.converged) {
+    // One more pass from the result, keeping the mean of the fixes along it.
+    Vec3 fix = d.correction, sum{};
+    int n = 0;
+    for (Penetration3 const& q : pairs) {
+      float const need = q.depth - fix.dot(q.normal);
+      if (!(need > 0.0f)) continue;
+      fix = fix + q.normal * need;
+      sum = sum + fix;
+      ++n;
+    }
+    if (n > 0) out.correction = sum / float(n);
+  }
+  return out;
 }
 
 /// The sweep of move_and_slide on its own: how far the shape can move along `motion` and
@@ -272,16 +327,44 @@ move_and_slide(Q const& query, typename Q::shape_type const& shape, Iso3 const& 
   };
   Vec3 pos = pose.translation;
   Vec3 v = velocity;
+  // A callback's change is kept when finite (a NaN position or velocity is not taken).
+  auto const take = [&](MoveHit<Id> const& h) {
+    if (bool(h.position.is_finite())) pos = h.position;
+    if (bool(h.velocity.is_finite())) v = h.velocity;
+  };
+  std::vector<Vec3> normals; // the accepted planes of one sweep
+  auto const project = [&] {
+    PlaneSet3 planes(v, cfg.planes);
+    for (Vec3 const& n : normals)
+      planes.add(n);
+    for (Vec3 const& n : cfg.user_planes)
+      planes.add(n);
+    r.planes = std::size_t(planes.count());
+    r.planes_overflowed = r.planes_overflowed || bool(planes.overflowed());
+    v = project_velocity(v, planes.normals(), cfg.projection).velocity;
+  };
 
-  Depenetration3 const first = plume::depenetrate(query, shape, at(pos), cfg, filter);
+  MoveDepenetration const first = plume::depenetrate(query, shape, at(pos), cfg, filter);
   pos = pos + first.correction;
-  r.depenetrated = bool(first.converged);
+  r.depenetrated = first.converged;
+  r.deep_start = first.deep;
 
   float time_left = dt;
-  for (int it = 0; it < cfg.iterations && !r.aborted; ++it) {
+  // A shape that started deeper than the rejection threshold only depenetrates this call:
+  // its casts cannot tell in from out, and a sweep could carry it further through.
+  for (int it = 0; it < cfg.iterations && !r.aborted && !r.deep_start; ++it) {
+    if (!cfg.user_planes.empty()) { // the user planes hold before anything is hit
+      normals.clear();
+      project();
+    }
     Vec3 sweep = v * time_left;
     float len = sweep.length();
-    if (!(len >= cfg.min_sweep) || !std::isfinite(len)) break;
+    if (!std::isfinite(len)) { // |v| dt overflows a float: move at most max_move along v
+      float const m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+      sweep = (v / m).normalize() * cfg.max_move;
+      len = cfg.max_move;
+    }
+    if (!(len >= cfg.min_sweep)) break;
     if (len > cfg.max_move) {
       sweep = sweep * (cfg.max_move / len);
       len = cfg.max_move;
@@ -297,6 +380,7 @@ move_and_slide(Q const& query, typename Q::shape_type const& shape, Iso3 const& 
     time_left = time_left * (1.0f - move.safe / len);
 
     // The sweep's hit, then the contact planes around the new position.
+    normals.clear();
     MoveHit<Id> hit{move.hit->collider,
                     MoveHitKind::sweep,
                     it,
@@ -307,9 +391,7 @@ move_and_slide(Q const& query, typename Q::shape_type const& shape, Iso3 const& 
                     move.safe,
                     (move.hit_distance - move.safe) * move.approach};
     HitResponse const answer = on_hit(hit);
-    pos = hit.position;
-    v = hit.velocity;
-    std::vector<Vec3> normals; // the accepted planes of this iteration
+    take(hit);
     if (answer == HitResponse::abort) r.aborted = true;
     if (answer == HitResponse::accept) {
       normals.push_back(hit.normal);
@@ -317,38 +399,35 @@ move_and_slide(Q const& query, typename Q::shape_type const& shape, Iso3 const& 
     }
     if (r.aborted) break;
 
-    std::vector<MoveHit<Id>> contacts;
-    query.contacts(shape, at(pos), cfg.plane_distance, filter, [&](MoveContact<Id> const& c) {
-      contacts.push_back({c.collider, MoveHitKind::contact, it, c.point, c.normal, pos, v, 0.0f,
-                          c.separation, c.separation <= cfg.skin + cfg.touch_tolerance});
-      return true;
-    });
-    for (MoveHit<Id>& c : contacts) {
-      c.position = pos;
-      c.velocity = v;
-      HitResponse const a = on_hit(c);
-      pos = c.position;
-      v = c.velocity;
-      if (a == HitResponse::accept && c.touching) {
-        normals.push_back(c.normal);
-        keep(c);
-      }
-      if (a == HitResponse::abort) {
-        r.aborted = true;
-        break;
-      }
-    }
-    normals.insert(normals.end(), cfg.user_planes.begin(), cfg.user_planes.end());
+    Vec3 const here = pos; // contacts are found at the position after the sweep's callback
+    plume::intersections(query, shape, at(here), cfg.plane_distance, filter,
+                         [&](MoveContact<Id> const& c) {
+                           MoveHit<Id> h{c.collider,
+                                         MoveHitKind::contact,
+                                         it,
+                                         c.point,
+                                         c.normal,
+                                         pos,
+                                         v,
+                                         move.safe,
+                                         c.separation,
+                                         c.separation <= cfg.skin + cfg.touch_tolerance};
+                           HitResponse const a = on_hit(h);
+                           take(h);
+                           if (a == HitResponse::accept && h.touching) {
+                             normals.push_back(h.normal);
+                             keep(h);
+                           }
+                           if (a == HitResponse::abort) r.aborted = true;
+                           return !r.aborted;
+                         });
     // Merged against the velocity the callbacks left, then projected onto all at once.
-    PlaneSet3 planes(v, cfg.planes);
-    for (Vec3 const& n : normals)
-      planes.add(n);
-    v = project_velocity(v, planes.normals(), cfg.projection).velocity;
+    project();
   }
 
-  Depenetration3 const last = plume::depenetrate(query, shape, at(pos), cfg, filter);
+  MoveDepenetration const last = plume::depenetrate(query, shape, at(pos), cfg, filter);
   pos = pos + last.correction;
-  r.depenetrated = r.depenetrated && bool(last.converged);
+  r.depenetrated = r.depenetrated && last.converged;
   r.position = pos;
   r.velocity = v;
   return r;
