@@ -18,11 +18,12 @@
 //     GPenetration<Vec>             Penetration3, Penetration2 (input pairs)
 //     GDepenetration<Vec>           Depenetration3, Depenetration2 (results)
 //     GDepenetrationConfig<S>       DepenetrationConfig, DDepenetrationConfig
-//   move_and_slide, cast_move, depenetrate(query, ...)  (solver/character/move_and_slide.hpp)
+//   move_and_slide, cast_move, intersections, depenetrate(query, ...)
+//                                                        (solver/character/move_and_slide.hpp)
 //     MoveQuery (the scene concept)  MoveCastHit<Id>, MoveContact<Id> (what a scene answers)
 //     MoveAndSlideConfig            MoveAndSlideResult<Id>, MoveHit<Id>, HitResponse
-//   ColliderSetQuery<Shape>       a span of Colliders as a scene  (solver/character/collider_set.hpp)
-//     Collider, ColliderShape, ColliderFilter
+//   ColliderSetQuery<Shape>, Collider, ColliderShape, ColliderFilter: a user's span of
+//     colliders as a scene                               (solver/character/collider_set.hpp)
 #pragma once
 
 #include <plume/solver/character/collider_set.hpp>
