@@ -13,9 +13,9 @@ namespace plume::test {
 
 // Which element types the tests instantiate, set by PLUME_TEST_TYPES (tests/CMakeLists.txt):
 //   all      float, double and every width of the build (the default);
-//   widest   float, double and the widest width of each element (the sanitizer and clang
-//            builds: they look for memory errors and compiler differences, not for widths);
-//   native   only the build's own widest width (the CI's sse2, avx2 and avx512 builds: each
+//   widest   float, double and the widest width of each element (the sanitizer build: it
+//            looks for memory errors, not for widths);
+//   native   only the build's own widest width (the CI's sse2, avx2, avx512 and clang builds: each
 //            width is tested, optimised, in the build whose width it is, the scalar types in
 //            the scalar build; the golden battery still runs every width of every build, and
 //            each wide test compares its lanes with the scalar path of the same build).
