@@ -194,13 +194,15 @@ TEMPLATE_LIST_TEST_CASE("wide bvh: f32 ray casts, ray and box queries equal brut
   for (bool optimised : {false, true}) {
     INFO("optimised " << optimised);
     Scene<S> const s = make_scene<S>(71, 600, optimised);
-    Probe<S> const p = make_probe(s, 72, 1500);
+    // A third of the probes in the -O0 sanitizer build (the full set took 12 s a type there).
+    int const k = PLUME_TEST_UNOPTIMISED ? 1 : 3;
+    Probe<S> const p = make_probe(s, 72, 500 * k);
     Totals totals;
     check_all_arities<TestType>(s, p, &totals);
     // The scene does what it is meant to: hits, exact ties, fat-box-only crossings.
-    CHECK(totals.hits > 300);
-    CHECK(totals.ties > 30);
-    CHECK(totals.fat_only > 100);
+    CHECK(totals.hits > 100 * k);
+    CHECK(totals.ties > 10 * k);
+    CHECK(totals.fat_only > 100 * k / 3);
   }
 }
 
@@ -208,11 +210,12 @@ TEMPLATE_LIST_TEST_CASE("wide bvh: f64 ray casts, ray and box queries equal brut
                         "[spatial][bvh]", f64_list) {
   using S = double;
   Scene<S> const s = make_scene<S>(81, 400, false);
-  Probe<S> const p = make_probe(s, 82, 600);
+  int const k = PLUME_TEST_UNOPTIMISED ? 1 : 3; // a third of the probes at -O0
+  Probe<S> const p = make_probe(s, 82, 200 * k);
   Totals totals;
   check_all_arities<TestType>(s, p, &totals);
-  CHECK(totals.hits > 100);
-  CHECK(totals.ties > 10);
+  CHECK(totals.hits > 100 * k / 3);
+  CHECK(totals.ties > 10 * k / 3);
 }
 
 TEMPLATE_LIST_TEST_CASE("wide bvh: exact ties go to the lower proxy id, whatever the order",
