@@ -585,6 +585,42 @@ TEST_CASE("move and slide: callbacks that set NaN, and |v| dt beyond a float",
   CHECK(far.position.x <= MoveAndSlideConfig{}.max_move * 4 + 1e-3f);
 }
 
+TEST_CASE("move and slide: cast_move and intersections on their own, bad input",
+          "[character][move][bad-input]") {
+  World w;
+  add_box(w, {3, 0, 0}, {0.5f, 5, 5});
+  WorldMoveQuery const scene(w);
+  Iso3 const at = Iso3::from_translation({0, 0, 0});
+  // A clear cast: the whole motion. A blocked one: up to a skin from the wall.
+  CHECK(cast_move(scene, BodyShape{capsule}, at, Vec3{1, 0, 0}).safe == 1.0f);
+  auto const blocked = cast_move(scene, BodyShape{capsule}, at, Vec3{4, 0, 0});
+  REQUIRE(blocked.hit);
+  CHECK(blocked.safe == Approx(2.0f - skin).margin(1e-4));
+  CHECK(blocked.approach == Approx(1).margin(1e-4));
+  // Zero, NaN and infinite motion: no hit, nothing safe.
+  float const nan = std::numeric_limits<float>::quiet_NaN();
+  for (Vec3 const m :
+       {Vec3{}, Vec3{nan, 0, 0}, Vec3{std::numeric_limits<float>::infinity(), 0, 0}}) {
+    auto const c = cast_move(scene, BodyShape{capsule}, at, m);
+    CHECK(!c.hit);
+    CHECK(c.safe == 0.0f);
+  }
+  // intersections: the wall within 2.1 of the capsule's side, not within 1.9; stop on false.
+  int found = 0;
+  intersections(scene, BodyShape{capsule}, at, 2.1f, {}, [&](MoveContact<BodyId> const& c) {
+    ++found;
+    CHECK(c.separation == Approx(2.0f).margin(1e-4));
+    CHECK(c.normal.x == Approx(-1).margin(1e-4));
+    return false;
+  });
+  CHECK(found == 1);
+  intersections(scene, BodyShape{capsule}, at, 1.9f, {}, [&](MoveContact<BodyId> const&) {
+    ++found;
+    return true;
+  });
+  CHECK(found == 1);
+}
+
 TEST_CASE("move and slide: config scaled to centimetres gives the same path, scaled",
           "[character][move]") {
   World m, cm;

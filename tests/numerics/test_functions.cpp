@@ -5,6 +5,7 @@
 
 #include <plume/numerics/approx.hpp>
 #include <plume/numerics/bits.hpp>
+#include <plume/numerics/detail/coefficients.hpp>
 #include <plume/numerics/detail/poly.hpp>
 #include <plume/numerics/functions.hpp>
 #include <plume/numerics/hypot.hpp>
@@ -212,4 +213,70 @@ TEMPLATE_LIST_TEST_CASE("double-word helpers are exact", "[numerics][detail]", t
       CHECK(test::same_bits(lane(p.hi, 0), a * b));
     }
   }
+}
+
+namespace {
+// The polynomial c[0] x^(N-1) + ... + c[N-1] in long double, Horner's order.
+template <class S, std::size_t N>
+long double exact_poly(long double x, S const (&c)[N]) {
+  long double r = 0;
+  for (S const k : c)
+    r = r * x + (long double)k;
+  return r;
+}
+
+template <class T, std::size_t N>
+void check_estrin(scalar_t<T> const (&c)[N], scalar_t<T> range) {
+  using S = scalar_t<T>;
+  std::mt19937 rng(std::uint32_t(40 + N));
+  std::uniform_real_distribution<double> in(-double(range), double(range));
+  std::vector<S> xs(400);
+  for (S& x : xs)
+    x = S(in(rng));
+  xs[0] = 0;
+  xs[1] = range;
+  xs[2] = -range;
+  for (std::size_t k = 0; k + lanes_v<T> <= xs.size(); k += lanes_v<T>) {
+    T const x = test::make_lanes<T>(xs, k);
+    T const e = detail::estrin(x, c);
+    for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+      S const xi = lane(x, i);
+      INFO("N = " << N << ", x = " << xi);
+      // Lane-exact: the scalar call on the lane's input.
+      REQUIRE(test::same_bits(lane(e, i), detail::estrin(xi, c)));
+      // The value: within a few roundings per term of the exact polynomial (the tables below
+      // are dominated by their constant term for |x| <= range: no cancellation).
+      long double const want = exact_poly((long double)xi, c);
+      REQUIRE(std::abs((long double)lane(e, i) - want) <=
+              4 * N * (long double)std::numeric_limits<S>::epsilon() * std::abs(want));
+    }
+  }
+}
+} // namespace
+
+TEMPLATE_LIST_TEST_CASE("estrin evaluates the polynomial, lane-exact, for every length",
+                        "[numerics][detail][poly]", test::real_types) {
+  using T = TestType;
+  using S = scalar_t<T>;
+  // Positive coefficients falling with the degree, |x| <= 1/2: the constant term dominates.
+  S const c1[] = {S(1.5)};
+  S const c2[] = {S(0.75), S(1)};
+  S const c3[] = {S(0.3), S(0.6), S(1)};
+  S const c5[] = {S(0.1), S(0.2), S(0.3), S(0.4), S(1)};
+  S const c8[] = {S(0.01), S(0.02), S(0.05), S(0.1), S(0.2), S(0.3), S(0.5), S(1)};
+  S const c12[] = {S(1e-4), S(2e-4), S(5e-4), S(1e-3), S(2e-3), S(5e-3),
+                   S(0.01), S(0.02), S(0.05), S(0.1),  S(0.3),  S(1)};
+  S const c16[] = {S(1e-6), S(2e-6), S(5e-6), S(1e-5), S(2e-5), S(5e-5), S(1e-4), S(2e-4),
+                   S(5e-4), S(1e-3), S(2e-3), S(5e-3), S(0.01), S(0.05), S(0.2),  S(1)};
+  check_estrin<T>(c1, S(0.5));
+  check_estrin<T>(c2, S(0.5));
+  check_estrin<T>(c3, S(0.5));
+  check_estrin<T>(c5, S(0.5));
+  check_estrin<T>(c8, S(0.5));
+  check_estrin<T>(c12, S(0.5));
+  check_estrin<T>(c16, S(0.5));
+  // The tables it runs on: asin's kernel (u in [0, 1]) and double tan's (z <= (pi/4)^2).
+  using C = detail::math_constants<S>;
+  check_estrin<T>(C::asin_poly, S(1));
+  check_estrin<T>(C::tan_poly, S(0.62));
 }
