@@ -281,8 +281,8 @@ PLUME_INLINE T tan(T x) noexcept {
   auto const red = detail::reduce_abs_half_pi(plume::abs(x));
   T const hi = red.hi;
   T const z = hi * hi;
-  // double's 16 coefficients by Estrin's scheme: Horner's chain of 15 multiply-adds bounded
-  // f64x4 tan by latency (0.20 -> 0.30 G/s); float's 7 stay with Horner.
+  // double's 16 coefficients by Estrin's scheme (a dependency chain of 4 multiply-adds, not
+  // Horner's 15: docs/performance.md has the figures); float's 7 stay with Horner.
   T P;
   if constexpr (std::size(C::tan_poly) > 8)
     P = detail::estrin(z, C::tan_poly);

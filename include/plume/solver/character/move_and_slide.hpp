@@ -284,6 +284,10 @@ struct CastMove {
   float approach = 0.0f;     ///< dir . -normal of the hit: how straight the motion goes in
 };
 
+/// Casts the shape along `motion` (length units) with cast length |motion| + cfg.skin and
+/// returns how far it may move keeping the skin to the first hit: max(d - skin / max(dir . -n,
+/// 0.005), 0), at most |motion|, with the hit and its cast distance. Zero or non-finite
+/// motion: no hit and safe = 0.
 template <MoveQuery Q>
 CastMove<typename Q::collider_id>
 cast_move(Q const& query, typename Q::shape_type const& shape, Iso3 const& pose, Vec3 const& motion,
