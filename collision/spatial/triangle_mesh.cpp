@@ -61,16 +61,12 @@ void classify_edges(std::vector<std::array<std::uint32_t, 3>> const& idx,
     return a.key != b.key ? a.key < b.key : a.ref < b.ref;
   });
   auto const kind_of = [&](std::uint32_t t, std::uint32_t k, std::uint32_t u) {
-    Vec3 const& n1 = normals[t];
-    float const c = n1.dot(normals[u]);
-    if (c >= flat_cosine) return EdgeKind::flat;
-    // u's vertex off the shared edge, measured against t's plane.
+    // u's vertex off the shared edge.
     std::uint32_t const p = idx[t][k], q = idx[t][(k + 1) % 3];
     std::uint32_t r = idx[u][0];
     for (std::uint32_t v : idx[u])
       if (v != p && v != q) r = v;
-    float const s = n1.dot(verts[r] - verts[p]);
-    return s < 0.0f ? EdgeKind::convex : EdgeKind::concave;
+    return detail::edge_kind(normals[t], normals[u], verts[p], verts[r], flat_cosine);
   };
   for (std::size_t i = 0; i < e.size();) {
     std::size_t j = i + 1;
@@ -101,6 +97,21 @@ void classify_edges(std::vector<std::array<std::uint32_t, 3>> const& idx,
 }
 
 } // namespace
+
+Vec3 detail::unit_face_normal(Triangle const& t) noexcept {
+  // In double: the float cross product of a large triangle overflows (its length, or the
+  // products in it), which would give a zero or NaN normal.
+  DVec3 const da{t.a.x, t.a.y, t.a.z}, db{t.b.x, t.b.y, t.b.z}, dc{t.c.x, t.c.y, t.c.z};
+  DVec3 const dn = (db - da).cross(dc - da).normalize_or_zero();
+  return Vec3{float(dn.x), float(dn.y), float(dn.z)};
+}
+
+EdgeKind detail::edge_kind(Vec3 const& n, Vec3 const& m, Vec3 const& p, Vec3 const& r,
+                           float flat_cosine) noexcept {
+  if (n.dot(m) >= flat_cosine) return EdgeKind::flat;
+  // The other triangle's vertex off the edge, measured against this one's plane.
+  return n.dot(r - p) < 0.0f ? EdgeKind::convex : EdgeKind::concave;
+}
 
 MeshBuildResult TriangleMesh::build(std::span<Vec3 const> vertices,
                                     std::span<std::uint32_t const> indices,
@@ -136,12 +147,7 @@ MeshBuildResult TriangleMesh::build(std::span<Vec3 const> vertices,
     }
     m.indices_.push_back(id);
     m.tris_.push_back(tri);
-    // In double: the float cross product of a large triangle overflows (its length, or the
-    // products in it), which would give a zero or NaN normal.
-    DVec3 const da{tri.a.x, tri.a.y, tri.a.z}, db{tri.b.x, tri.b.y, tri.b.z},
-        dc{tri.c.x, tri.c.y, tri.c.z};
-    DVec3 const dn = (db - da).cross(dc - da).normalize_or_zero();
-    m.normals_.push_back(Vec3{float(dn.x), float(dn.y), float(dn.z)});
+    m.normals_.push_back(detail::unit_face_normal(tri));
     m.source_.push_back(std::uint32_t(t));
   }
   if (m.tris_.empty()) {

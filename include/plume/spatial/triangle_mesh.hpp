@@ -175,6 +175,16 @@ struct MeshBuildResult {
 /// The point of triangle t nearest p (Ericson, Real-Time Collision Detection 5.1.5).
 Vec3 closest_point_on_triangle(Triangle const& t, Vec3 const& p) noexcept;
 
+namespace detail {
+/// The unit normal of (b - a) x (c - a), computed in double (a float cross product of a large
+/// triangle overflows), rounded to float; zero for a degenerate triangle.
+Vec3 unit_face_normal(Triangle const& t) noexcept;
+/// The kind of an edge starting at p of a triangle with unit normal n, shared with a triangle
+/// of unit normal m whose vertex off the edge is r (the rule at the top of this header).
+EdgeKind edge_kind(Vec3 const& n, Vec3 const& m, Vec3 const& p, Vec3 const& r,
+                   float flat_cosine) noexcept;
+} // namespace detail
+
 // ------------------------------------------------------------------------ templates
 
 template <Real T, std::size_t K>

@@ -1,0 +1,342 @@
+// plume/spatial/mesh_queries.hpp - a convex shape against a triangle mesh (TriangleMesh or
+// HeightField: any TriangleSource): contact manifolds with internal-edge correction, shape
+// casts and overlaps, through the mesh's BVH or the field's pyramid.
+//
+//   MeshContacts c = mesh_contacts(mesh, mesh_pose, Cuboid{{0.5f, 0.5f, 0.5f}}, pose);
+//   for (MeshManifold const& m : c) ... m.manifold.normal (mesh -> shape), m.triangle
+//   MeshShapeHit h = mesh_shape_cast(mesh, mesh_pose, Sphere{0.3f}, pose, motion, cast_cfg);
+//   bool any = mesh_overlaps(mesh, mesh_pose, shape, pose, [](std::uint32_t tri) { return true; });
+//
+// The shape is any convex shape of collision/shapes.hpp (sphere, capsule, cuboid, cylinder,
+// convex hull, triangle), placed by `pose`; the mesh is placed by `mesh_pose`; everything
+// reported is in world space. Triangles are two-sided: a shape is pushed out on the side of
+// each triangle where the origin of its frame (pose.translation) lies, front or back.
+//
+// Contacts: every triangle whose box meets the shape's box grown by the prediction distance
+// is collided as a Triangle (collision/manifold.hpp), in increasing triangle index. Each
+// triangle's manifold has its normal from the triangle toward the shape. Then:
+//  1. Internal edges and sides (MeshContactConfig::correct_internal_edges). A shape sliding
+//     over the shared edge of two coplanar triangles would otherwise get the edge's normal,
+//     which points along the surface (a "ghost" bump). When a manifold's normal is not the
+//     face normal on the shape's side (further than MeshContactConfig::face_cosine from it)
+//     and either points to the far side or has every contact point on the triangle on an
+//     inactive feature, the normal becomes that face normal and each point's separation is
+//     measured along it (points beyond the prediction distance are dropped). An edge is inactive
+//     when it is flat or concave seen from the shape's side (TriangleMesh's edge kinds, with
+//     convex and concave swapped behind the triangle); boundary, non-manifold and convex
+//     edges are active (a shape may really touch them edge-on); a vertex is inactive when
+//     every edge of the triangle through it is; a point inside the face is inactive. "On a
+//     feature" means within 1e-4 times the triangle's longest edge of it.
+//  2. Merging. Manifolds whose normals are within merge_cosine of each other form one group
+//     (the first triangle in index order sets the group's normal); a group's points are
+//     reduced to 4 as a single manifold's are. Up to max_mesh_manifolds groups are kept: the
+//     deepest (least separation; ties to the lower triangle). A box resting across several
+//     triangles of a flat floor gets one manifold; a box in a valley gets one per slope.
+//  Point ids mix the triangle index into the feature id, so the same point on the same
+//  triangle keeps its id across frames (warm starting), and ids stay unique in a group.
+//
+// Shape casts: the least time of impact over the triangles whose boxes meet the swept box
+// (ties to the lower triangle), each cast by collision/gjk.hpp's shape_cast with the same
+// config: bit for bit the result of casting against every triangle. The normal points out of
+// the mesh toward the cast shape.
+//
+// Bad input: a non-finite pose gives failed contacts (none) and no cast hit or overlap; a
+// non-finite motion, or a NaN, negative or infinite max_toi, gives no cast hit; an empty
+// mesh gives nothing.
+#pragma once
+
+#include <plume/collision/gjk.hpp>
+#include <plume/collision/manifold.hpp>
+#include <plume/collision/shapes.hpp>
+#include <plume/math/aabb3.hpp>
+#include <plume/math/iso3.hpp>
+#include <plume/spatial/height_field.hpp>
+#include <plume/spatial/triangle_mesh.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <concepts>
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+#include <vector>
+
+namespace plume {
+
+/// What these queries need of a mesh: its triangles, their face normals and edges (as
+/// TriangleMesh's), and a box query. TriangleMesh and HeightField are such meshes.
+template <class M>
+concept TriangleSource = requires(M const& m, std::uint32_t t, Aabb3 const& box) {
+  { m.triangle(t) } -> std::convertible_to<Triangle>;
+  { m.face_normal(t) } -> std::convertible_to<Vec3>;
+  { m.edges(t) } -> std::convertible_to<TriangleEdges>;
+  { m.triangle_count() } -> std::convertible_to<std::size_t>;
+  m.query_aabb(box, [](std::uint32_t) {});
+};
+
+/// The most manifolds mesh_contacts reports for one shape.
+inline constexpr int max_mesh_manifolds = 4;
+
+struct MeshContactConfig {
+  ManifoldConfig manifold{};
+  /// Triangles' manifolds whose normals have at least this cosine merge (about 1.1 degrees).
+  float merge_cosine = 0.9998f;
+  /// Face normals for contacts on flat and concave edges and vertices (see the header).
+  bool correct_internal_edges = true;
+  /// A triangle's manifold whose normal has at least this cosine with the face normal on the
+  /// shape's side is a face contact and is kept as it is (about 1e-3 rad).
+  float face_cosine = 0.9999995f;
+};
+
+/// One manifold of a shape against a mesh: normal from the mesh toward the shape (A is the
+/// mesh, B the shape), and the triangle of its deepest point.
+struct MeshManifold {
+  Manifold manifold;
+  std::uint32_t triangle = no_triangle;
+};
+
+struct MeshContacts {
+  std::array<MeshManifold, max_mesh_manifolds> manifolds{};
+  int count = 0;
+  bool failed = false; ///< non-finite pose (count 0)
+  MeshManifold const* begin() const noexcept { return manifolds.data(); }
+  MeshManifold const* end() const noexcept { return manifolds.data() + count; }
+  bool empty() const noexcept { return count == 0; }
+};
+
+/// A shape cast's first contact with a mesh; triangle no_triangle and toi +infinity for none.
+struct MeshShapeHit {
+  std::uint32_t triangle = no_triangle;
+  float toi = std::numeric_limits<float>::infinity(); ///< in units of the motion
+  Vec3 point{};                                       ///< world, on the mesh
+  Vec3 normal{}; ///< unit, out of the mesh toward the cast shape (zero if the cores overlap)
+  bool penetrating = false; ///< started within the target distance (toi 0)
+  bool hit() const noexcept { return triangle != no_triangle; }
+};
+
+namespace detail {
+
+/// Whether an edge of this kind can be touched edge-on from the front (behind: convex and
+/// concave swap).
+inline bool edge_active(EdgeKind k, bool behind) noexcept {
+  switch (k) {
+  case EdgeKind::flat:
+    return false;
+  case EdgeKind::convex:
+    return !behind;
+  case EdgeKind::concave:
+    return behind;
+  case EdgeKind::boundary:
+  case EdgeKind::non_manifold:
+    return true;
+  }
+  return true;
+}
+
+/// Distance from p to the segment [a, b].
+inline float segment_distance(Vec3 const& p, Vec3 const& a, Vec3 const& b) noexcept {
+  Vec3 const ab = b - a;
+  float const l2 = ab.dot(ab);
+  float const t = l2 > 0.0f ? std::clamp((p - a).dot(ab) / l2, 0.0f, 1.0f) : 0.0f;
+  return (a + ab * t - p).length();
+}
+
+/// Whether a contact at local point p of mesh triangle t lies on an active feature.
+template <TriangleSource Mesh>
+bool on_active_feature(Mesh const& mesh, std::uint32_t t, Vec3 const& p, bool behind) noexcept {
+  Triangle const tri = mesh.triangle(t);
+  std::array<Vec3, 3> const v{tri.a, tri.b, tri.c};
+  float longest = 0.0f;
+  for (int e = 0; e < 3; ++e)
+    longest = std::max(longest, (v[std::size_t((e + 1) % 3)] - v[std::size_t(e)]).length());
+  float const tol = 1e-4f * longest;
+  TriangleEdges const edges = mesh.edges(t);
+  bool any_on = false, active = false;
+  for (std::size_t e = 0; e < 3; ++e)
+    if (segment_distance(p, v[e], v[(e + 1) % 3]) <= tol) {
+      any_on = true;
+      active = active || edge_active(edges.kind[e], behind);
+    }
+  return any_on && active; // inside the face (no edge near) counts as inactive
+}
+
+/// A group of triangles' contact points sharing one normal, before reduction.
+struct mesh_group {
+  Vec3 normal;
+  std::uint32_t triangle = no_triangle; ///< of the deepest point
+  float deepest = std::numeric_limits<float>::infinity();
+  candidates<float> points;
+  void add(ContactPoint const& c, std::uint32_t tri) noexcept {
+    if (c.separation < deepest) {
+      deepest = c.separation;
+      triangle = tri;
+    }
+    if (points.n < candidates<float>::capacity) {
+      points.add(c);
+      return;
+    }
+    // Full: the new point replaces the shallowest when deeper (the first of equals).
+    int worst = 0;
+    for (int k = 1; k < points.n; ++k)
+      if (points.pts[std::size_t(k)].separation > points.pts[std::size_t(worst)].separation)
+        worst = k;
+    if (c.separation < points.pts[std::size_t(worst)].separation)
+      points.pts[std::size_t(worst)] = c;
+  }
+};
+
+/// The feature id of a point of triangle t's manifold, unique per (triangle, feature).
+inline std::uint64_t mesh_point_id(std::uint64_t id, std::uint32_t t) noexcept {
+  std::uint64_t z = id + (std::uint64_t(t) + 1) * 0x9e3779b97f4a7c15ull;
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+/// The box of a world-space box in the mesh's local frame.
+inline Aabb3 to_mesh_local(Aabb3 const& world_box, Iso3 const& mesh_pose) noexcept {
+  return world_box.transformed(mesh_pose.inverse());
+}
+
+/// The mesh's triangles whose boxes meet a world box, in increasing index.
+template <TriangleSource Mesh>
+void mesh_candidates(Mesh const& mesh, Iso3 const& mesh_pose, Aabb3 const& box,
+                     std::vector<std::uint32_t>& out) {
+  out.clear();
+  Aabb3 const local = to_mesh_local(box, mesh_pose);
+  if (!bool(local.is_valid())) return;
+  mesh.query_aabb(local, [&](std::uint32_t t) { out.push_back(t); });
+  std::sort(out.begin(), out.end());
+}
+
+} // namespace detail
+
+/// The contact manifolds of a convex shape (at pose) against a mesh (at mesh_pose); the
+/// rules are at the top of this header.
+template <TriangleSource Mesh, class Shape>
+MeshContacts mesh_contacts(Mesh const& mesh, Iso3 const& mesh_pose, Shape const& shape,
+                           Iso3 const& pose, MeshContactConfig const& cfg = {}) {
+  MeshContacts out;
+  if (!mesh_pose.is_finite() || !pose.is_finite()) {
+    out.failed = true;
+    return out;
+  }
+  std::vector<std::uint32_t> tris;
+  detail::mesh_candidates(mesh, mesh_pose, shape.aabb(pose).grow(cfg.manifold.prediction), tris);
+  std::vector<detail::mesh_group> groups;
+  for (std::uint32_t const t : tris) {
+    Manifold m = contact_manifold(mesh.triangle(t), mesh_pose, shape, pose, cfg.manifold);
+    if (m.empty()) continue;
+    Vec3 const face = mesh_pose.transform_vector(mesh.face_normal(t));
+    // The shape's side of the triangle: where the origin of its frame is.
+    bool const behind =
+        (pose.translation - mesh_pose.transform_point(mesh.triangle(t).a)).dot(face) < 0.0f;
+    float const along = m.normal.dot(behind ? -face : face);
+    if (cfg.correct_internal_edges && along < cfg.face_cosine) {
+      bool active = false;
+      for (ContactPoint const& c : m) // a normal toward the far side is never kept
+        active = active || (along >= 0.0f &&
+                            detail::on_active_feature(
+                                mesh, t, mesh_pose.inverse_transform_point(c.point_a), behind));
+      if (!active) {
+        Vec3 const n = behind ? -face : face;
+        Manifold fixed;
+        fixed.normal = n;
+        for (ContactPoint c : m) {
+          c.separation = (c.point_b - c.point_a).dot(n);
+          if (!(c.separation <= cfg.manifold.prediction)) continue;
+          c.point_b = c.point_a + n * c.separation;
+          fixed.points[std::size_t(fixed.count++)] = c;
+        }
+        m = fixed;
+        if (m.empty()) continue;
+      }
+    }
+    auto g = std::find_if(groups.begin(), groups.end(), [&](detail::mesh_group const& x) {
+      return x.normal.dot(m.normal) >= cfg.merge_cosine;
+    });
+    if (g == groups.end()) {
+      groups.push_back({});
+      g = groups.end() - 1;
+      g->normal = m.normal;
+    }
+    for (ContactPoint c : m) {
+      c.id = detail::mesh_point_id(c.id, t);
+      g->add(c, t);
+    }
+  }
+  // The deepest groups (ties: the lower triangle), reported in that order.
+  std::stable_sort(
+      groups.begin(), groups.end(), [](detail::mesh_group const& a, detail::mesh_group const& b) {
+        return a.deepest < b.deepest || (a.deepest == b.deepest && a.triangle < b.triangle);
+      });
+  for (detail::mesh_group const& g : groups) {
+    if (out.count == max_mesh_manifolds) break;
+    MeshManifold& mm = out.manifolds[std::size_t(out.count++)];
+    mm.manifold.normal = g.normal;
+    mm.triangle = g.triangle;
+    detail::reduce_into(g.points, g.normal, mm.manifold);
+  }
+  return out;
+}
+
+/// The first triangle a convex shape (at pose) hits moving by t * motion, t in
+/// [0, cfg.max_toi]; the rules are at the top of this header.
+template <TriangleSource Mesh, class Shape>
+MeshShapeHit mesh_shape_cast(Mesh const& mesh, Iso3 const& mesh_pose, Shape const& shape,
+                             Iso3 const& pose, Vec3 const& motion,
+                             ShapeCastConfig const& cfg = {}) {
+  MeshShapeHit best;
+  if (!mesh_pose.is_finite() || !pose.is_finite() || !bool(motion.is_finite()) ||
+      !(cfg.max_toi >= 0.0f) || !std::isfinite(cfg.max_toi) || !(cfg.target_distance >= 0.0f))
+    return best;
+  Aabb3 const start = shape.aabb(pose);
+  Aabb3 const end = shape.aabb(Iso3{pose.rotation, pose.translation + motion * cfg.max_toi});
+  Aabb3 const swept = start.merge(end).grow(cfg.target_distance);
+  if (!bool(swept.is_valid())) return best;
+  std::vector<std::uint32_t> tris;
+  detail::mesh_candidates(mesh, mesh_pose, swept, tris);
+  for (std::uint32_t const t : tris) {
+    ShapeCastHit const c = shape_cast(shape, pose, motion, mesh.triangle(t), mesh_pose, cfg);
+    if (!c.hit || c.failed || !(c.toi < best.toi)) continue; // ties: the lower index, first
+    best.triangle = t;
+    best.toi = c.toi;
+    best.point = c.point_b;
+    best.normal = -c.normal;
+    best.penetrating = bool(c.penetrating);
+  }
+  return best;
+}
+
+/// Calls f(triangle) for each triangle the convex shape (at pose) touches or overlaps (GJK
+/// distance <= 0), in increasing index; f returns false to stop (or void to visit all).
+/// Returns whether any triangle touched.
+template <TriangleSource Mesh, class Shape, class F>
+bool mesh_overlaps(Mesh const& mesh, Iso3 const& mesh_pose, Shape const& shape, Iso3 const& pose,
+                   F&& f) {
+  if (!mesh_pose.is_finite() || !pose.is_finite()) return false;
+  std::vector<std::uint32_t> tris;
+  detail::mesh_candidates(mesh, mesh_pose, shape.aabb(pose), tris);
+  bool any = false;
+  for (std::uint32_t const t : tris) {
+    ClosestPoints const c = closest_points(shape, pose, mesh.triangle(t), mesh_pose);
+    if (c.failed || !(c.overlap || c.distance <= 0.0f)) continue;
+    any = true;
+    if constexpr (std::is_void_v<decltype(f(t))>) {
+      f(t);
+    } else {
+      if (!bool(f(t))) break;
+    }
+  }
+  return any;
+}
+
+/// Whether the convex shape (at pose) touches or overlaps any triangle of the mesh.
+template <TriangleSource Mesh, class Shape>
+bool mesh_intersects(Mesh const& mesh, Iso3 const& mesh_pose, Shape const& shape,
+                     Iso3 const& pose) {
+  return mesh_overlaps(mesh, mesh_pose, shape, pose, [](std::uint32_t) { return false; });
+}
+
+} // namespace plume

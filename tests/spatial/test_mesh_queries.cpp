@@ -1,0 +1,345 @@
+// Convex shapes against a TriangleMesh (spatial/mesh_queries.hpp): contacts, shape casts and
+// overlaps against brute force over the same triangles as separate shapes; internal edges
+// (no ghost normals over a flat grid, edge normals kept on ridges, one manifold per slope in
+// a valley, the rules mirrored behind the triangles); bad input.
+#include "mesh_support.hpp"
+
+#include <plume/collision/gjk.hpp>
+#include <plume/collision/manifold.hpp>
+#include <plume/collision/shapes.hpp>
+#include <plume/spatial/mesh_queries.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <variant>
+#include <vector>
+
+using namespace plume;
+using namespace plume::test;
+
+namespace {
+
+constexpr float inf = std::numeric_limits<float>::infinity();
+constexpr float qnan = std::numeric_limits<float>::quiet_NaN();
+
+using AnyShape = std::variant<Sphere, Capsule, Cuboid>;
+
+AnyShape random_shape(std::mt19937& g) {
+  std::uniform_real_distribution<float> u(0.1f, 0.8f);
+  switch (g() % 3) {
+  case 0:
+    return Sphere{u(g)};
+  case 1:
+    return Capsule{u(g), 0.5f * u(g)};
+  default:
+    return Cuboid{Vec3{u(g), u(g), u(g)}};
+  }
+}
+
+Iso3 random_pose(std::mt19937& g, float lo, float hi, float y_lo, float y_hi) {
+  std::uniform_real_distribution<float> u(-1, 1), x(lo, hi), y(y_lo, y_hi);
+  Quat const q = Quat{u(g), u(g), u(g), u(g) + 0.1f}.normalize();
+  return {q, Vec3{x(g), y(g), x(g)}};
+}
+
+/// The angle between two unit vectors, radians.
+float angle(Vec3 const& a, Vec3 const& b) { return std::atan2(a.cross(b).length(), a.dot(b)); }
+
+/// A mesh placed off the origin and turned, so that every query also tests the frames.
+Iso3 const mesh_pose{Quat::from_axis_angle(Vec3{0.3f, 1.0f, -0.2f}.normalize(), 0.4f),
+                     Vec3{1.5f, -0.25f, 2.0f}};
+
+} // namespace
+
+TEST_CASE("mesh_contacts: the deepest point and the triangles touched equal brute force",
+          "[spatial][mesh]") {
+  TriangleMesh const m = make(grid(16, 0.5f, terrain_height));
+  std::mt19937 g(11);
+  MeshContactConfig cfg;
+  cfg.correct_internal_edges = false;
+  cfg.merge_cosine = 2.0f; // never merge: one group per triangle
+  int touching_cases = 0;
+  for (int k = 0; k < 300; ++k) {
+    AnyShape const shape = random_shape(g);
+    // In the mesh's frame over the terrain (heights within +-0.9), then placed by mesh_pose.
+    Iso3 const local = random_pose(g, 0.5f, 7.5f, -1.0f, 1.0f);
+    Iso3 const pose = mesh_pose * local;
+    std::visit(
+        [&](auto const& s) {
+          MeshContacts const got = mesh_contacts(m, mesh_pose, s, pose, cfg);
+          REQUIRE_FALSE(got.failed);
+          float want = inf;
+          std::uint32_t want_tri = no_triangle;
+          int touched = 0;
+          for (std::uint32_t t = 0; t < m.triangle_count(); ++t) {
+            Manifold const b = contact_manifold(m.triangle(t), mesh_pose, s, pose, cfg.manifold);
+            if (b.empty()) continue;
+            ++touched;
+            if (b.min_separation() < want) {
+              want = b.min_separation();
+              want_tri = t;
+            }
+          }
+          REQUIRE(got.count == std::min(touched, max_mesh_manifolds));
+          if (touched == 0) return;
+          ++touching_cases;
+          REQUIRE(same_bits(got.manifolds[0].manifold.min_separation(), want));
+          REQUIRE(got.manifolds[0].triangle == want_tri);
+          for (MeshManifold const& mm : got) {
+            REQUIRE(mm.manifold.count >= 1);
+            REQUIRE(mm.manifold.normal.length() == Approx(1.0f).margin(1e-5));
+            for (ContactPoint const& c : mm.manifold)
+              REQUIRE(c.separation <= cfg.manifold.prediction);
+          }
+        },
+        shape);
+  }
+  REQUIRE(touching_cases > 50);
+}
+
+TEST_CASE("mesh_contacts: no ghost normals over the internal edges of a flat grid and a "
+          "flat height field",
+          "[spatial][mesh]") {
+  TriangleMesh const mesh = make(grid(8, 1.0f, [](float, float) { return 0.0f; }));
+  std::vector<float> const zeros(81, 0.0f);
+  auto built = HeightField::build(9, 9, zeros, 1.0f, 1.0f);
+  REQUIRE(built.ok());
+  HeightField const field = std::move(built.field);
+  Vec3 const up = mesh_pose.transform_vector(Vec3::Y);
+  std::mt19937 g(12);
+  std::uniform_real_distribution<float> u(0, 1);
+  auto const run = [&](auto const& m, bool correct) {
+    MeshContactConfig cfg;
+    cfg.correct_internal_edges = correct;
+    float worst = 0.0f;
+    int cases = 0;
+    for (int k = 0; k < 400; ++k) {
+      // Resting 1-4 mm deep, anywhere over the inner cells (edges and vertices included:
+      // one position in four snapped onto a grid line), turned about the vertical.
+      float x = 1.0f + 6.0f * u(g), z = 1.0f + 6.0f * u(g);
+      if (k % 4 == 0) x = std::round(x);
+      if (k % 8 == 0) z = std::round(z);
+      float const depth = 0.001f + 0.003f * u(g);
+      Quat const yaw = Quat::from_axis_angle(Vec3::Y, 6.2832f * u(g));
+      auto const check = [&](auto const& shape, float bottom, Quat const& turn) {
+        Iso3 const local{yaw * turn, Vec3{x, bottom - depth, z}};
+        MeshContacts const c = mesh_contacts(m, mesh_pose, shape, mesh_pose * local, cfg);
+        REQUIRE(c.count >= 1);
+        if (correct) REQUIRE(c.count == 1); // one plane: one manifold
+        for (MeshManifold const& mm : c)
+          worst = std::max(worst, angle(mm.manifold.normal, up));
+        ++cases;
+      };
+      check(Cuboid{Vec3{0.5f, 0.5f, 0.3f}}, 0.5f, Quat::IDENTITY);
+      // A capsule lying on its side: its axis (local y) turned onto x.
+      check(Capsule{0.6f, 0.3f}, 0.3f, Quat::from_axis_angle(Vec3::Z, 1.5707964f));
+      check(Sphere{0.4f}, 0.4f, Quat::IDENTITY);
+    }
+    REQUIRE(cases == 1200);
+    return worst;
+  };
+  CHECK(run(mesh, true) <= 1e-3f);
+  CHECK(run(field, true) <= 1e-3f);
+  // The test sees ghost normals when they are there: without the correction, shapes over
+  // the internal edges get normals far from the surface's.
+  CHECK(run(mesh, false) > 0.1f);
+  CHECK(run(field, false) > 0.1f);
+}
+
+namespace {
+
+/// Two triangles meeting along the z axis edge x = 0, y = 0, each rising (ridge: falling)
+/// at `slope` radians away from it; front faces up.
+TriangleMesh roof(float slope) {
+  float const c = std::cos(slope) * 4.0f, s = std::sin(slope) * 4.0f;
+  // Vertices 0, 1 on the shared edge; 2 on the -x side, 3 on the +x side.
+  std::vector<Vec3> const v{{0, 0, -4}, {0, 0, 4}, {-c, s, 0}, {c, s, 0}};
+  // Each triangle wound so (b - a) x (c - a) has +y: the shared edge runs opposite ways.
+  std::vector<std::uint32_t> const idx{0, 2, 1, 0, 1, 3};
+  auto r = TriangleMesh::build(v, idx);
+  REQUIRE(r.ok());
+  return std::move(r.mesh);
+}
+
+} // namespace
+
+TEST_CASE("mesh_contacts: a convex ridge keeps its edge normal, a valley gives one manifold "
+          "per slope, and behind the triangles the rules swap",
+          "[spatial][mesh]") {
+  float const slope = 0.5f; // about 29 degrees
+  SECTION("a sphere on a ridge") {
+    TriangleMesh const m = roof(-slope); // falling away from the edge: convex
+    REQUIRE(m.edges(0).kind[std::size_t(
+                std::find(m.edges(0).neighbour.begin(), m.edges(0).neighbour.end(), 1u) -
+                m.edges(0).neighbour.begin())] == EdgeKind::convex);
+    Iso3 const pose = mesh_pose * Iso3::from_translation({0.0f, 0.3f - 0.002f, 0.0f});
+    MeshContacts const c = mesh_contacts(m, mesh_pose, Sphere{0.3f}, pose);
+    REQUIRE(c.count == 1);
+    // The edge's normal, straight up: neither face's (each 0.5 rad off it).
+    CHECK(angle(c.manifolds[0].manifold.normal, mesh_pose.transform_vector(Vec3::Y)) < 1e-3f);
+  }
+  SECTION("a sphere in a valley") {
+    TriangleMesh const m = roof(slope); // rising away from the edge: concave
+    // Touching both slopes: centre on the bisector, at r / cos(slope) above the edge.
+    float const r = 0.3f;
+    Iso3 const pose =
+        mesh_pose * Iso3::from_translation({0.0f, r / std::cos(slope) - 0.002f, 0.0f});
+    MeshContacts const c = mesh_contacts(m, mesh_pose, Sphere{r}, pose);
+    REQUIRE(c.count == 2);
+    for (MeshManifold const& mm : c) {
+      Vec3 const face = mesh_pose.transform_vector(m.face_normal(mm.triangle));
+      CHECK(angle(mm.manifold.normal, face) < 1e-3f);
+    }
+    CHECK(angle(c.manifolds[0].manifold.normal, c.manifolds[1].manifold.normal) > 0.9f);
+  }
+  SECTION("below a valley (a ridge seen from behind) the edge normal is kept") {
+    TriangleMesh const m = roof(slope);
+    Iso3 const pose = mesh_pose * Iso3::from_translation({0.0f, -0.3f + 0.002f, 0.0f});
+    MeshContacts const c = mesh_contacts(m, mesh_pose, Sphere{0.3f}, pose);
+    REQUIRE(c.count == 1);
+    CHECK(angle(c.manifolds[0].manifold.normal, mesh_pose.transform_vector(-Vec3::Y)) < 1e-3f);
+  }
+  SECTION("below a ridge (a valley seen from behind): one manifold per face, facing down") {
+    TriangleMesh const m = roof(-slope);
+    float const r = 0.3f;
+    Iso3 const pose =
+        mesh_pose * Iso3::from_translation({0.0f, -r / std::cos(slope) + 0.002f, 0.0f});
+    MeshContacts const c = mesh_contacts(m, mesh_pose, Sphere{r}, pose);
+    REQUIRE(c.count == 2);
+    for (MeshManifold const& mm : c) {
+      Vec3 const face = mesh_pose.transform_vector(m.face_normal(mm.triangle));
+      CHECK(angle(mm.manifold.normal, -face) < 1e-3f);
+    }
+  }
+  SECTION("a box edge-on over a boundary edge keeps the edge's normal") {
+    TriangleMesh const m = make(grid(1, 2.0f, [](float, float) { return 0.0f; }));
+    // A box turned 45 degrees about z, left of the mesh's x = 0 boundary edge, its lower
+    // right face through that edge and 2 mm into the mesh: the contact is with the boundary
+    // edge, its normal along the box's face (up and to -x), not the mesh's face.
+    Quat const q = Quat::from_axis_angle(Vec3::Z, 0.7853982f);
+    float const cx = -0.3f, cy = cx + 0.5f * std::sqrt(2.0f) - 0.002f;
+    Iso3 const pose = mesh_pose * Iso3{q, Vec3{cx, cy, 1.0f}};
+    MeshContacts const c = mesh_contacts(m, mesh_pose, Cuboid{Vec3::splat(0.5f)}, pose);
+    REQUIRE(c.count == 1);
+    Vec3 const n = mesh_pose.inverse_transform_vector(c.manifolds[0].manifold.normal);
+    CHECK(n.x < -0.1f); // not the face normal: the boundary edge is active
+  }
+}
+
+TEST_CASE("mesh_contacts: a group keeps its deepest points however many triangles it spans",
+          "[spatial][mesh]") {
+  // A 3 m box tilted 0.5 degrees over a grid of 0.2 m cells: about 450 triangles under it,
+  // over 1,000 candidate points in one group; the deepest corner lies over the last cells.
+  TriangleMesh const m = make(grid(20, 0.2f, [](float, float) { return 0.0f; }));
+  Quat const tilt = Quat::from_axis_angle(Vec3{1.0f, 0.0f, -1.0f}.normalize(), 0.0087f);
+  Iso3 const local{tilt, {2.0f, 0.5f - 0.005f, 2.0f}};
+  Cuboid const box{Vec3{1.5f, 0.5f, 1.5f}};
+  MeshContacts const c = mesh_contacts(m, Iso3{}, box, local);
+  REQUIRE(c.count == 1);
+  float want = inf;
+  for (std::uint32_t t = 0; t < m.triangle_count(); ++t)
+    want = std::min(want, contact_manifold(m.triangle(t), Iso3{}, box, local).min_separation());
+  CHECK(want < -0.02f); // the deep corner is well below the rest
+  CHECK(c.manifolds[0].manifold.min_separation() == want);
+  CHECK(c.manifolds[0].manifold.count == 4);
+}
+
+TEST_CASE("mesh_shape_cast equals the least cast over every triangle", "[spatial][mesh]") {
+  TriangleMesh const m = make(grid(16, 0.5f, terrain_height));
+  std::mt19937 g(13);
+  std::uniform_real_distribution<float> u(-1, 1);
+  int hits = 0;
+  for (int k = 0; k < 300; ++k) {
+    AnyShape const shape = random_shape(g);
+    Iso3 const pose = mesh_pose * random_pose(g, 0.5f, 7.5f, 1.5f, 3.0f);
+    Vec3 const motion = mesh_pose.transform_vector(Vec3{u(g), -1.0f - 2.0f * (u(g) + 1.0f), u(g)});
+    ShapeCastConfig cfg;
+    cfg.max_toi = 1.0f;
+    cfg.target_distance = k % 3 == 0 ? 0.01f : 0.0f;
+    std::visit(
+        [&](auto const& s) {
+          MeshShapeHit const got = mesh_shape_cast(m, mesh_pose, s, pose, motion, cfg);
+          MeshShapeHit want;
+          for (std::uint32_t t = 0; t < m.triangle_count(); ++t) {
+            ShapeCastHit const c = shape_cast(s, pose, motion, m.triangle(t), mesh_pose, cfg);
+            if (c.hit && !c.failed && c.toi < want.toi) {
+              want.triangle = t;
+              want.toi = c.toi;
+              want.normal = -c.normal;
+            }
+          }
+          REQUIRE(got.triangle == want.triangle);
+          if (!want.hit()) return;
+          ++hits;
+          REQUIRE(same_bits(got.toi, want.toi));
+          REQUIRE(same_bits(got.normal, want.normal));
+          REQUIRE(got.normal.dot(motion) <= 0.0f); // out of the mesh, against the motion
+        },
+        shape);
+  }
+  REQUIRE(hits > 100);
+}
+
+TEST_CASE("mesh_overlaps reports exactly the triangles the shape touches", "[spatial][mesh]") {
+  TriangleMesh const m = make(grid(16, 0.5f, terrain_height));
+  std::mt19937 g(14);
+  int any = 0;
+  for (int k = 0; k < 300; ++k) {
+    AnyShape const shape = random_shape(g);
+    Iso3 const pose = mesh_pose * random_pose(g, 0.5f, 7.5f, -1.0f, 1.0f);
+    std::visit(
+        [&](auto const& s) {
+          std::vector<std::uint32_t> got, want;
+          bool const touched =
+              mesh_overlaps(m, mesh_pose, s, pose, [&](std::uint32_t t) { got.push_back(t); });
+          for (std::uint32_t t = 0; t < m.triangle_count(); ++t) {
+            ClosestPoints const c = closest_points(s, pose, m.triangle(t), mesh_pose);
+            if (c.overlap || c.distance <= 0.0f) want.push_back(t);
+          }
+          REQUIRE(got == want);
+          REQUIRE(touched == !want.empty());
+          REQUIRE(mesh_intersects(m, mesh_pose, s, pose) == !want.empty());
+          any += touched;
+        },
+        shape);
+  }
+  REQUIRE(any > 50);
+}
+
+TEST_CASE("mesh queries: bad input finds nothing", "[spatial][mesh]") {
+  TriangleMesh const m = make(grid(4, 1.0f, [](float, float) { return 0.0f; }));
+  Sphere const s{0.5f};
+  Iso3 const on = Iso3::from_translation({2.0f, 0.4f, 2.0f});
+  Iso3 bad = on;
+  bad.translation.x = qnan;
+  REQUIRE(mesh_contacts(m, Iso3{}, s, on).count == 1);
+  REQUIRE(mesh_contacts(m, Iso3{}, s, bad).failed);
+  REQUIRE(mesh_contacts(m, bad, s, on).failed);
+  REQUIRE(mesh_contacts(m, bad, s, on).count == 0);
+  REQUIRE(mesh_contacts(TriangleMesh{}, Iso3{}, s, on).count == 0);
+
+  Vec3 const down{0.0f, -1.0f, 0.0f};
+  Iso3 const above = Iso3::from_translation({2.0f, 2.0f, 2.0f});
+  REQUIRE(mesh_shape_cast(m, Iso3{}, s, above, down, {.max_toi = 2.0f}).hit());
+  REQUIRE(mesh_shape_cast(m, Iso3{}, s, above, down, {.max_toi = 2.0f}).toi ==
+          Approx(1.5f).margin(1e-4));
+  REQUIRE_FALSE(mesh_shape_cast(m, Iso3{}, s, above, down, {.max_toi = inf}).hit());
+  REQUIRE_FALSE(mesh_shape_cast(m, Iso3{}, s, above, down, {.max_toi = qnan}).hit());
+  REQUIRE_FALSE(mesh_shape_cast(m, Iso3{}, s, above, down, {.max_toi = -1.0f}).hit());
+  REQUIRE_FALSE(mesh_shape_cast(m, Iso3{}, s, above, Vec3{0.0f, qnan, 0.0f}, {}).hit());
+  REQUIRE_FALSE(mesh_shape_cast(m, Iso3{}, s, bad, down, {}).hit());
+  REQUIRE_FALSE(mesh_shape_cast(TriangleMesh{}, Iso3{}, s, above, down, {.max_toi = 2.0f}).hit());
+
+  REQUIRE(mesh_intersects(m, Iso3{}, s, on));
+  // Touching counts: a sphere resting exactly on the floor.
+  REQUIRE(mesh_intersects(m, Iso3{}, s, Iso3::from_translation({2.0f, 0.5f, 2.0f})));
+  REQUIRE_FALSE(mesh_intersects(m, Iso3{}, s, Iso3::from_translation({2.0f, 0.5001f, 2.0f})));
+  REQUIRE_FALSE(mesh_intersects(m, Iso3{}, s, bad));
+  REQUIRE_FALSE(mesh_intersects(m, bad, s, on));
+  REQUIRE_FALSE(mesh_intersects(TriangleMesh{}, Iso3{}, s, on));
+}
