@@ -63,12 +63,32 @@ void ContactCache::update(std::span<PairManifold const> found, float match_dista
   next.reserve(found.size());
   std::vector<char> kept(contacts_.size(), 0);
   std::size_t io = 0; // cursor into the previous contacts, sorted like `found`
-  for (PairManifold const& f : found) {
+  for (std::size_t k = 0; k < found.size(); ++k) {
+    PairManifold const& f = found[k];
     while (io < contacts_.size() && key_of(contacts_[io]) < f.pair)
       ++io;
-    Contact const* prev =
-        io < contacts_.size() && key_of(contacts_[io]) == f.pair ? &contacts_[io] : nullptr;
+    // The previous contacts of this pair: contacts_[io, end).
+    std::size_t end = io;
+    while (end < contacts_.size() && key_of(contacts_[end]) == f.pair)
+      ++end;
     if (f.manifold.count == 0) continue;
+    Contact const* prev = nullptr;
+    bool const several = end - io > 1 || (k + 1 < found.size() && found[k + 1].pair == f.pair) ||
+                         (k > 0 && found[k - 1].pair == f.pair);
+    if (!several) {
+      prev = io < end ? &contacts_[io] : nullptr;
+    } else {
+      // A pair with several manifolds (a mesh): each takes the unclaimed previous contact
+      // whose normal is closest to its own, within 60 degrees.
+      float best = 0.5f;
+      for (std::size_t j = io; j < end; ++j) {
+        float const d = contacts_[j].manifold.normal.dot(f.manifold.normal);
+        if (!kept[j] && d > best) {
+          best = d;
+          prev = &contacts_[j];
+        }
+      }
+    }
     Contact c;
     c.body_a = body_pair_first(f.pair);
     c.body_b = body_pair_second(f.pair);
@@ -77,7 +97,7 @@ void ContactCache::update(std::span<PairManifold const> found, float match_dista
     c.restitution = f.restitution;
     c.tangent = contact_tangent(f.manifold.normal, prev != nullptr ? prev->tangent : Vec3{});
     if (prev != nullptr) {
-      kept[io] = 1;
+      kept[std::size_t(prev - contacts_.data())] = 1;
       c.color = prev->color;
       c.dynamic_a = prev->dynamic_a;
       c.dynamic_b = prev->dynamic_b;

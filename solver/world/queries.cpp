@@ -18,9 +18,14 @@ RayHit cast_ray(BodyShape const& shape, Iso3 const& pose, Ray3 const& ray, float
   return std::visit(
       [&](auto const& s) -> RayHit {
         using S = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<S, ConvexHull>)
+        if constexpr (std::is_same_v<S, ConvexHull>) {
           return ray_cast_gjk(s, pose, ray, max_toi);
-        else
+        } else if constexpr (is_triangle_shape_v<S>) {
+          MeshRayHit const h = s.source()->ray_cast(pose, ray, max_toi);
+          RayHit r{h.hit(), h.toi, h.hit() ? h.normal : Vec3{},
+                   h.hit() ? float(h.triangle) : -1.0f};
+          return r;
+        } else
           return ray_cast(s, pose, ray, max_toi);
       },
       shape);
@@ -48,7 +53,7 @@ decltype(auto) with_convex(BodyShape const& shape, F&& f) {
   return std::visit(
       [&](auto const& s) {
         using S = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<S, HalfSpace>)
+        if constexpr (std::is_same_v<S, HalfSpace> || is_triangle_shape_v<S>)
           return f(Sphere{0.0f}, false); // not a query shape: callers stop on `false`
         else
           return f(s, true);
@@ -216,7 +221,15 @@ std::optional<WorldShapeHit> World::shape_cast(BodyShape const& shape, Iso3 cons
         std::visit(
             [&](auto const& s) {
               using S = std::decay_t<decltype(s)>;
-              if constexpr (!std::is_same_v<S, HalfSpace>) {
+              if constexpr (is_triangle_shape_v<S>) {
+                MeshShapeHit const c = mesh_shape_cast(*s.source(), b.pose, q, pose, motion, cfg);
+                if (!c.hit()) return;
+                hit = true;
+                h.toi = c.toi;
+                h.point = c.point;
+                h.normal = c.normal;
+                h.penetrating = c.penetrating;
+              } else if constexpr (!std::is_same_v<S, HalfSpace>) {
                 ShapeCastHit const c = plume::shape_cast(q, pose, motion, s, b.pose, cfg);
                 if (!c.hit || c.failed) return;
                 hit = true;
@@ -257,6 +270,8 @@ bool touches(Q const& q, Iso3 const& pose, BodyShape const& b, Iso3 const& pose_
         using S = std::decay_t<decltype(s)>;
         if constexpr (std::is_same_v<S, HalfSpace>) {
           return false;
+        } else if constexpr (is_triangle_shape_v<S>) {
+          return mesh_intersects(*s.source(), pose_b, q, pose);
         } else {
           ClosestPoints const c = closest_points(q, pose, s, pose_b);
           return !c.failed && (c.overlap || c.distance <= 0.0f);
@@ -270,8 +285,8 @@ bool touches(Q const& q, Iso3 const& pose, BodyShape const& b, Iso3 const& pose_
 bool World::shapes_touch(std::uint32_t a, std::uint32_t b) const {
   Body const& x = bodies_[a];
   Body const& y = bodies_[b];
-  if (std::holds_alternative<HalfSpace>(x.shape)) {               // the convex one queries
-    if (std::holds_alternative<HalfSpace>(y.shape)) return false; // two half-spaces: no answer
+  if (!is_convex_shape(x.shape)) {               // the convex one queries
+    if (!is_convex_shape(y.shape)) return false; // two half-spaces or meshes: no answer
     return shapes_touch(b, a);
   }
   return with_convex(x.shape,
@@ -297,7 +312,7 @@ void World::contact_query(BodyShape const& shape, Iso3 const& pose, float distan
                           std::function<bool(BodyId, Manifold const&)> const& f,
                           QueryFilter const& filter) const {
   if (!pose.is_finite() || !(distance >= 0.0f) || !std::isfinite(distance) ||
-      std::holds_alternative<HalfSpace>(shape))
+      !is_convex_shape(shape))
     return;
   Aabb3 const box = with_convex(shape, [&](auto const& q, bool) { return q.aabb(pose); });
   if (!bool(box.min.is_finite()) || !bool(box.max.is_finite())) return;
@@ -305,10 +320,14 @@ void World::contact_query(BodyShape const& shape, Iso3 const& pose, float distan
   cfg.prediction = distance;
   std::vector<std::uint32_t> near;
   candidates(box.grow(distance), filter, near);
+  std::array<Manifold, max_mesh_manifolds> ms;
   for (std::uint32_t i : near) {
-    Manifold const m = detail::collide(bodies_[i].shape, bodies_[i].pose, shape, pose, cfg);
-    if (m.empty() || m.failed) continue;
-    if (!f(BodyId{i, bodies_[i].generation}, m)) return;
+    int const n = detail::collide(bodies_[i].shape, bodies_[i].pose, shape, pose, cfg, ms);
+    for (int k = 0; k < n; ++k) {
+      Manifold const& m = ms[std::size_t(k)];
+      if (m.empty() || m.failed) continue;
+      if (!f(BodyId{i, bodies_[i].generation}, m)) return;
+    }
   }
 }
 
@@ -340,11 +359,23 @@ std::optional<WorldPointHit> World::project_point(Vec3 const& point, float max_d
       float const d = plane.height(point);
       h.distance = std::max(d, 0.0f);
       h.point = d > 0.0f ? point - plane.normal * d : point;
+    } else if (!is_convex_shape(b.shape)) { // a mesh or height field
+      MeshClosestPoint const c = std::visit(
+          [&](auto const& s) -> MeshClosestPoint {
+            if constexpr (is_triangle_shape_v<std::decay_t<decltype(s)>>)
+              return s.source()->closest_point(b.pose, point, reach);
+            else
+              return {};
+          },
+          b.shape);
+      if (!c.found()) continue;
+      h.distance = c.distance;
+      h.point = c.point;
     } else {
       ClosestPoints const c = std::visit(
           [&](auto const& s) -> ClosestPoints {
             using S = std::decay_t<decltype(s)>;
-            if constexpr (std::is_same_v<S, HalfSpace>)
+            if constexpr (std::is_same_v<S, HalfSpace> || is_triangle_shape_v<S>)
               return {};
             else
               return closest_points(Sphere{0.0f}, at, s, b.pose);

@@ -21,10 +21,49 @@ bool finite(Quat const& q) { return q.is_finite(); }
 
 } // namespace
 
-Manifold detail::collide(BodyShape const& a, Iso3 const& pa, BodyShape const& b, Iso3 const& pb,
-                         ManifoldConfig const& cfg) {
+int detail::collide(BodyShape const& a, Iso3 const& pa, BodyShape const& b, Iso3 const& pb,
+                    ManifoldConfig const& cfg, std::array<Manifold, max_mesh_manifolds>& out) {
   return std::visit(
-      [&](auto const& sa, auto const& sb) { return contact_manifold(sa, pa, sb, pb, cfg); }, a, b);
+      [&](auto const& sa, auto const& sb) -> int {
+        using A = std::decay_t<decltype(sa)>;
+        using B = std::decay_t<decltype(sb)>;
+        constexpr bool mesh_a = is_triangle_shape_v<A>;
+        constexpr bool mesh_b = is_triangle_shape_v<B>;
+        if constexpr (mesh_a && mesh_b) {
+          return 0;
+        } else if constexpr (mesh_a || mesh_b) {
+          if constexpr (std::is_same_v<A, HalfSpace> || std::is_same_v<B, HalfSpace>) {
+            return 0;
+          } else {
+            MeshContactConfig mc;
+            mc.manifold = cfg;
+            MeshContacts c;
+            if constexpr (mesh_a)
+              c = mesh_contacts(*sa.source(), pa, sb, pb, mc);
+            else
+              c = mesh_contacts(*sb.source(), pb, sa, pa, mc);
+            if (c.failed) {
+              out[0] = Manifold{};
+              out[0].failed = true;
+              return 1;
+            }
+            for (int k = 0; k < c.count; ++k) {
+              Manifold m = c.manifolds[std::size_t(k)].manifold; // mesh -> shape
+              if constexpr (mesh_b) { // A is the shape: turn it to A -> B
+                m.normal = -m.normal;
+                for (int p = 0; p < m.count; ++p)
+                  std::swap(m.points[std::size_t(p)].point_a, m.points[std::size_t(p)].point_b);
+              }
+              out[std::size_t(k)] = m;
+            }
+            return c.count;
+          }
+        } else {
+          out[0] = contact_manifold(sa, pa, sb, pb, cfg);
+          return out[0].empty() && !out[0].failed ? 0 : 1;
+        }
+      },
+      a, b);
 }
 
 Aabb3 World::grown_aabb(std::uint32_t i) const {
@@ -91,8 +130,10 @@ void World::update_events() {
   };
   touching_before_.swap(touching_now_);
   touching_now_.clear();
-  for (Contact const& c : cache_.contacts())
-    touching_now_.push_back(body_pair_key(c.body_a, c.body_b));
+  for (Contact const& c : cache_.contacts()) // a mesh pair may have several contacts
+    if (std::uint64_t const k = body_pair_key(c.body_a, c.body_b);
+        touching_now_.empty() || touching_now_.back() != k)
+      touching_now_.push_back(k);
   diff(touching_before_, touching_now_, events_.contact_begin, events_.contact_end);
   std::vector<std::uint64_t> sensor_before;
   sensor_before.swap(sensor_now_);
@@ -109,16 +150,15 @@ void World::update_events() {
 
 /// Narrow phase: a manifold per pair, then the contact cache matches them with last step's.
 void World::collide_pairs() {
-  found_.resize(pairs_.size());
-  for (std::size_t k = 0; k < pairs_.size(); ++k) {
-    Body const& a = bodies_[body_pair_first(pairs_[k])];
-    Body const& b = bodies_[body_pair_second(pairs_[k])];
-    found_[k] = {pairs_[k],
-                 detail::collide(a.shape, a.pose, b.shape, b.pose, config_.manifold),
-                 std::sqrt(a.friction * b.friction),
-                 std::max(a.restitution, b.restitution),
-                 a.is_dynamic(),
-                 b.is_dynamic()};
+  found_.clear();
+  std::array<Manifold, max_mesh_manifolds> ms;
+  for (std::uint64_t const pair : pairs_) {
+    Body const& a = bodies_[body_pair_first(pair)];
+    Body const& b = bodies_[body_pair_second(pair)];
+    int const n = detail::collide(a.shape, a.pose, b.shape, b.pose, config_.manifold, ms);
+    for (int k = 0; k < n; ++k)
+      found_.push_back({pair, ms[std::size_t(k)], std::sqrt(a.friction * b.friction),
+                        std::max(a.restitution, b.restitution), a.is_dynamic(), b.is_dynamic()});
   }
   cache_.update(found_, config_.contact_match_distance);
 }

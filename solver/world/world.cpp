@@ -23,6 +23,8 @@ std::string_view to_string(BodyError e) noexcept {
     return "negative density, friction, restitution or damping";
   case BodyError::bad_body:
     return "no such body";
+  case BodyError::bad_shape:
+    return "a mesh or height field without triangles, or on a dynamic body";
   }
   return "unknown";
 }
@@ -35,7 +37,8 @@ bool finite(Vec3 const& v) { return v.is_finite(); }
 MassProperties shape_mass(BodyShape const& shape, float density) {
   return std::visit(
       [&](auto const& s) -> MassProperties {
-        if constexpr (std::is_same_v<std::decay_t<decltype(s)>, HalfSpace>)
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, HalfSpace> || is_triangle_shape_v<S>)
           return {0.0f, Vec3{}, Mat3::ZERO};
         else
           return s.mass_properties(density);
@@ -71,6 +74,15 @@ CreateBodyResult World::create_body(BodyDef const& def) {
   if (def.density < 0.0f || def.friction < 0.0f || def.restitution < 0.0f ||
       def.linear_damping < 0.0f || def.angular_damping < 0.0f)
     return {{}, BodyError::bad_material};
+  bool const bad_triangles = std::visit(
+      [&](auto const& s) {
+        if constexpr (is_triangle_shape_v<std::decay_t<decltype(s)>>)
+          return s.source() == nullptr || s.source()->empty() || def.type == BodyType::dynamic;
+        else
+          return false;
+      },
+      def.shape);
+  if (bad_triangles) return {{}, BodyError::bad_shape};
   float const qlen = def.pose.rotation.length();
   if (!(qlen > 0.0f) || !std::isfinite(qlen)) return {{}, BodyError::non_finite};
 

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -142,8 +143,37 @@ int main() {
   bool const move_ok = std::abs(2.5f - (feet.x + 0.5f) - 0.01f) < 0.002f &&
                        std::abs(feet.y) < 0.002f && std::abs(feet.z - 2.0f) < 0.05f;
   std::printf("consumer: character at (%g, %g, %g)\n", feet.x, feet.y, feet.z);
+  // The README's mesh and terrain bodies: a box dropped on a two-triangle floor and a crate
+  // on a 3 x 3 height field settle on them.
+  std::vector<Vec3> const floor_v{{-4, 0, -4}, {4, 0, -4}, {-4, 0, 4}, {4, 0, 4}};
+  std::vector<std::uint32_t> const floor_i{0, 2, 1, 1, 2, 3};
+  auto built = TriangleMesh::build(floor_v, floor_i);
+  std::vector<float> const heights(9, 0.0f);
+  auto terrain = HeightField::build(3, 3, heights, 4.0f, 4.0f);
+  World grounds;
+  auto level_mesh = std::make_shared<TriangleMesh const>(std::move(built.mesh));
+  grounds.create_body({.type = BodyType::static_body, .shape = MeshShape{level_mesh}});
+  grounds.create_body(
+      {.type = BodyType::static_body,
+       .pose = Iso3::from_translation({10, 0, -4}),
+       .shape = HeightFieldShape{std::make_shared<HeightField const>(terrain.field)}});
+  BodyId const on_mesh =
+      grounds.create_body({.pose = Iso3::from_translation({0.5f, 1, 0.5f}),
+                           .shape = Cuboid{Vec3::splat(0.5f)}})
+          .id;
+  BodyId const on_field =
+      grounds.create_body({.pose = Iso3::from_translation({14, 1, 0}),
+                           .shape = Cuboid{Vec3::splat(0.5f)}})
+          .id;
+  for (int i = 0; i < 120; ++i)
+    grounds.step(1.0f / 60.0f);
+  bool const ground_ok = built.ok() && terrain.ok() &&
+                         std::abs(grounds.pose(on_mesh).translation.y - 0.5f) < 0.02f &&
+                         std::abs(grounds.pose(on_field).translation.y - 0.5f) < 0.02f;
+  std::printf("consumer: boxes on a mesh and a height field at y = %g, %g\n",
+              grounds.pose(on_mesh).translation.y, grounds.pose(on_field).translation.y);
   return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok && solver_ok &&
-          ray_ok && contact_ok && world_ok && spatial_ok && move_ok)
+          ray_ok && contact_ok && world_ok && spatial_ok && move_ok && ground_ok)
              ? 0
              : 1;
 }

@@ -91,3 +91,51 @@ TEST_CASE("contact cache: contacts persist by pair, keep colours, end when apart
   cache.update(step3, 0.01f);
   CHECK(cache.contacts()[0].color == 0);
 }
+
+TEST_CASE("contact cache: a pair with several manifolds matches each by its normal",
+          "[world][contact-cache][mesh]") {
+  ContactCache cache;
+  cache.reserve_bodies(3);
+  // Two manifolds of pair (0, 1) (a body in a mesh valley) and one of pair (1, 2); every
+  // point has id 0, so only the normals can tell the pair's two contacts apart.
+  auto const found = [](std::uint32_t a, std::uint32_t b, Vec3 const& normal) {
+    PairManifold f;
+    f.pair = body_pair_key(a, b);
+    f.manifold = manifold_of({{0, {0, 0, 0}}});
+    f.manifold.normal = normal;
+    f.dynamic_b = true;
+    return f;
+  };
+  Vec3 const left = Vec3{-0.5f, 0.866f, 0.0f}, right = Vec3{0.5f, 0.866f, 0.0f};
+  std::vector<PairManifold> step1{found(0, 1, left), found(0, 1, right), found(1, 2, Vec3::Y)};
+  cache.update(step1, 0.01f);
+  REQUIRE(cache.contacts().size() == 3);
+  cache.contacts()[0].impulses.normal[0] = 1.0f; // left
+  cache.contacts()[1].impulses.normal[0] = 2.0f; // right
+  int const color_left = cache.contacts()[0].color, color_right = cache.contacts()[1].color;
+  CHECK(color_left != color_right); // both touch body 1
+  // The narrow phase now lists them the other way round, turned a little: each keeps its
+  // own impulses and colour.
+  Vec3 const left2 = Vec3{-0.45f, 0.89f, 0.0f}.normalize(),
+             right2 = Vec3{0.55f, 0.83f, 0.0f}.normalize();
+  std::vector<PairManifold> step2{found(0, 1, right2), found(0, 1, left2), found(1, 2, Vec3::Y)};
+  cache.update(step2, 0.01f);
+  REQUIRE(cache.contacts().size() == 3);
+  CHECK(cache.contacts()[0].impulses.normal[0] == 2.0f);
+  CHECK(cache.contacts()[0].color == color_right);
+  CHECK(cache.contacts()[1].impulses.normal[0] == 1.0f);
+  CHECK(cache.contacts()[1].color == color_left);
+  // One of them ends, and a new one far from the other's normal starts from zero.
+  std::vector<PairManifold> step3{found(0, 1, left2), found(0, 1, Vec3{0.0f, 0.0f, 1.0f}),
+                                  found(1, 2, Vec3::Y)};
+  cache.update(step3, 0.01f);
+  REQUIRE(cache.contacts().size() == 3);
+  CHECK(cache.contacts()[0].impulses.normal[0] == 1.0f);
+  CHECK(cache.contacts()[1].impulses.normal[0] == 0.0f);
+  // A pair with one manifold before and now matches it whatever the normal (as before meshes).
+  std::vector<PairManifold> step4{found(1, 2, Vec3::X)};
+  cache.contacts()[2].impulses.normal[0] = 5.0f;
+  cache.update(step4, 0.01f);
+  REQUIRE(cache.contacts().size() == 1);
+  CHECK(cache.contacts()[0].impulses.normal[0] == 5.0f);
+}

@@ -20,10 +20,14 @@ RayHit brute_ray(BodyShape const& shape, Iso3 const& pose, Ray3 const& ray, floa
   return std::visit(
       [&](auto const& s) -> RayHit {
         using S = std::decay_t<decltype(s)>;
-        if constexpr (std::is_same_v<S, ConvexHull>)
+        if constexpr (std::is_same_v<S, ConvexHull>) {
           return ray_cast_gjk(s, pose, ray, max_toi);
-        else
+        } else if constexpr (is_triangle_shape_v<S>) {
+          MeshRayHit const h = s.source()->ray_cast(pose, ray, max_toi);
+          return {h.hit(), h.toi, h.normal, float(h.triangle)};
+        } else {
           return ray_cast(s, pose, ray, max_toi);
+        }
       },
       shape);
 }
@@ -35,6 +39,8 @@ float brute_distance(BodyShape const& shape, Iso3 const& pose, Vec3 const& p) {
         using S = std::decay_t<decltype(s)>;
         if constexpr (std::is_same_v<S, HalfSpace>) {
           return pose.transform_vector(s.normal).dot(p - pose.translation);
+        } else if constexpr (is_triangle_shape_v<S>) {
+          return s.source()->closest_point(pose, p, std::numeric_limits<float>::max()).distance;
         } else {
           ClosestPoints const c = closest_points(Sphere{0.0f}, Iso3::from_translation(p), s, pose);
           return c.overlap ? 0.0f : c.distance;
@@ -205,8 +211,11 @@ TEST_CASE("world queries: points, boxes and shapes against brute force", "[world
       } else {
         touch = std::visit(
             [&](auto const& b) {
-              if constexpr (std::is_same_v<std::decay_t<decltype(b)>, HalfSpace>) {
+              using B = std::decay_t<decltype(b)>;
+              if constexpr (std::is_same_v<B, HalfSpace>) {
                 return false;
+              } else if constexpr (is_triangle_shape_v<B>) {
+                return mesh_intersects(*b.source(), w.pose(BodyId{i}), probe, probe_pose);
               } else {
                 ClosestPoints const c = closest_points(probe, probe_pose, b, w.pose(BodyId{i}));
                 return bool(c.overlap) || c.distance <= 0.0f;
@@ -235,7 +244,12 @@ TEST_CASE("world queries: points, boxes and shapes against brute force", "[world
       } else {
         std::visit(
             [&](auto const& b) {
-              if constexpr (!std::is_same_v<std::decay_t<decltype(b)>, HalfSpace>) {
+              using B = std::decay_t<decltype(b)>;
+              if constexpr (is_triangle_shape_v<B>) {
+                t = mesh_shape_cast(*b.source(), w.pose(BodyId{i}), ball, probe_pose,
+                                    Vec3{0.3f, -6.0f, 0.2f}, cfg)
+                        .toi;
+              } else if constexpr (!std::is_same_v<B, HalfSpace>) {
                 ShapeCastHit const c = plume::shape_cast(ball, probe_pose, Vec3{0.3f, -6.0f, 0.2f},
                                                          b, w.pose(BodyId{i}), cfg);
                 if (c.hit && !c.failed) t = c.toi;
@@ -293,8 +307,16 @@ TEST_CASE("world queries: contact_query reports every body within the distance, 
       } else {
         d = std::visit(
             [&](auto const& b) {
-              if constexpr (std::is_same_v<std::decay_t<decltype(b)>, HalfSpace>) {
+              using B = std::decay_t<decltype(b)>;
+              if constexpr (std::is_same_v<B, HalfSpace>) {
                 return 0.0f;
+              } else if constexpr (is_triangle_shape_v<B>) {
+                float least = std::numeric_limits<float>::infinity();
+                for (std::uint32_t t = 0; t < b.source()->triangle_count(); ++t) {
+                  ClosestPoints const c = closest_points(probe, pose, b.source()->triangle(t), pb);
+                  least = std::min(least, c.overlap ? -1.0f : c.distance);
+                }
+                return least;
               } else {
                 ClosestPoints const c = closest_points(probe, pose, b, pb);
                 return c.overlap ? -1.0f : c.distance;

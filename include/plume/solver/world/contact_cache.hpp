@@ -9,6 +9,10 @@
 //      between the midpoints of the two surface points: clipping and reduction relabel
 //      points that have not moved.
 // An unmatched point starts from zero. The patch friction impulses carry over whole.
+// A pair with several manifolds (a body on a mesh: one per group of triangles with one
+// normal) matches each to the unclaimed previous contact of the pair whose normal is nearest
+// its own, if within 60 degrees; a pair with one manifold before and now matches it whatever
+// the normals.
 // Colours: a contact keeps its colour; the colours of ended contacts are freed before new
 // contacts are coloured, in pair order, so the colouring depends only on the sequence of
 // steps, never on the SIMD width.
@@ -37,7 +41,8 @@ struct Contact {
   bool dynamic_a = false, dynamic_b = false; ///< as the colouring saw them (for release)
 };
 
-/// What the narrow phase found for one body pair this step (manifold.count == 0: apart).
+/// What the narrow phase found for one body pair this step (manifold.count == 0: apart); a
+/// pair with a mesh may have several, one after the other.
 struct PairManifold {
   std::uint64_t pair = 0; ///< body_pair_key(body_a, body_b)
   Manifold manifold;
@@ -52,7 +57,8 @@ ContactImpulses carry_impulses(Manifold const& now, Manifold const& before,
 
 class ContactCache {
 public:
-  /// This step's contacts, sorted by (body_a, body_b).
+  /// This step's contacts, sorted by (body_a, body_b); a pair's several contacts (a mesh) in
+  /// the narrow phase's order.
   std::span<Contact const> contacts() const noexcept { return contacts_; }
   std::span<Contact> contacts() noexcept { return contacts_; }
   /// The graph colour of every contact, in contact order (what the solver packs by).

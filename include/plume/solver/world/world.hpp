@@ -24,17 +24,23 @@
 // finalize_bodies (poses). Overflow constraints (no free colour) are solved first in each pass, one
 // at a time, then the colours in order.
 //
-// Bad input: create_body() rejects a non-finite pose, velocity or material and a dynamic
-// body whose shape and density give no positive finite mass (BodyError; the world is
-// unchanged). Setters reject non-finite values the same way. A dynamic body whose state
-// turns non-finite during a step (absurd velocities) is put back where the step began,
-// stopped and frozen: it then acts as a static body, and frozen_bodies() reports it.
-// step() ignores dt <= 0 or non-finite. Accessors taking a BodyId throw std::out_of_range
-// for an id that names no live body (never created, or destroyed: ids carry a generation);
-// setters and destroy_body() return BodyError::bad_body instead.
-// Out of scope for this version (named, not stubbed): sleeping (every dynamic body is
-// simulated each step; a per-body flag would slot in where frozen bodies are skipped) and
-// compound bodies (one shape per body).
+// Meshes: a static or kinematic body may have a MeshShape (a shared TriangleMesh: level
+// geometry) or a HeightFieldShape (a shared HeightField: terrain). Dynamic bodies collide with it
+// triangle by triangle, with internal edges corrected so that a body sliding across two coplanar
+// triangles meets no ghost bump, and one contact per group of triangles with one normal
+// (spatial/mesh_queries.hpp): a pair with a mesh may hold up to max_mesh_manifolds contacts. Every
+// query sees meshes.
+//
+// Bad input: create_body() rejects a non-finite pose, velocity or material, a dynamic body
+// whose shape and density give no positive finite mass, and a mesh or height field that is
+// empty or on a dynamic body (BodyError; the world is unchanged). Setters reject non-finite values
+// the same way. A dynamic body whose state turns non-finite during a step (absurd velocities) is
+// put back where the step began, stopped and frozen: it then acts as a static body, and
+// frozen_bodies() reports it. step() ignores dt <= 0 or non-finite. Accessors taking a BodyId throw
+// std::out_of_range for an id that names no live body (never created, or destroyed: ids carry a
+// generation); setters and destroy_body() return BodyError::bad_body instead. Out of scope for this
+// version (named, not stubbed): sleeping (every dynamic body is simulated each step; a per-body
+// flag would slot in where frozen bodies are skipped) and compound bodies (one shape per body).
 #pragma once
 
 #include <plume/collision/convex_hull.hpp>
@@ -53,14 +59,19 @@
 #include <plume/solver/contact_constraint.hpp>
 #include <plume/solver/world/broad_phase.hpp>
 #include <plume/solver/world/contact_cache.hpp>
+#include <plume/spatial/height_field.hpp>
+#include <plume/spatial/mesh_queries.hpp>
+#include <plume/spatial/triangle_mesh.hpp>
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string_view>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
@@ -88,8 +99,49 @@ struct CollisionLayers {
   }
 };
 
+/// A triangle mesh as a body's shape (level geometry): the mesh is shared, not copied (the
+/// shape keeps it alive). Static and kinematic bodies only: a mesh has no
+/// inside, so no mass. Contacts with convex bodies follow spatial/mesh_queries.hpp (internal
+/// edges corrected, up to max_mesh_manifolds manifolds per pair); two meshes, or a mesh and a
+/// half-space, never collide.
+struct MeshShape {
+  std::shared_ptr<TriangleMesh const> mesh;
+  /// The mesh's bounds at pose (EMPTY without a mesh).
+  Aabb3 aabb(Iso3 const& pose) const noexcept {
+    return mesh && !mesh->empty() ? mesh->local_aabb().transformed(pose) : Aabb3::EMPTY;
+  }
+  TriangleMesh const* source() const noexcept { return mesh.get(); }
+};
+
+/// A height field as a body's shape (terrain): shared as MeshShape's mesh, with the same rules
+/// (static and kinematic bodies only; contacts, events and queries as a mesh's).
+struct HeightFieldShape {
+  std::shared_ptr<HeightField const> field;
+  /// The field's bounds at pose (EMPTY without a field).
+  Aabb3 aabb(Iso3 const& pose) const noexcept {
+    return field && !field->empty() ? field->local_aabb().transformed(pose) : Aabb3::EMPTY;
+  }
+  HeightField const* source() const noexcept { return field.get(); }
+};
+
 /// The shapes a body can have (one per body).
-using BodyShape = std::variant<Sphere, Capsule, Cuboid, Cylinder, ConvexHull, HalfSpace>;
+using BodyShape = std::variant<Sphere, Capsule, Cuboid, Cylinder, ConvexHull, HalfSpace, MeshShape,
+                               HeightFieldShape>;
+
+/// Whether a body shape is made of triangles (MeshShape, HeightFieldShape).
+template <class S>
+inline constexpr bool is_triangle_shape_v =
+    std::is_same_v<S, MeshShape> || std::is_same_v<S, HeightFieldShape>;
+/// Whether a body shape can be the query shape of a cast, overlap or contact query (not a
+/// half-space, mesh or height field).
+inline bool is_convex_shape(BodyShape const& s) noexcept {
+  return std::visit(
+      [](auto const& x) {
+        using S = std::decay_t<decltype(x)>;
+        return !std::is_same_v<S, HalfSpace> && !is_triangle_shape_v<S>;
+      },
+      s);
+}
 
 struct BodyDef {
   BodyType type = BodyType::dynamic;
@@ -115,6 +167,7 @@ enum class BodyError : std::uint8_t {
   zero_mass,    ///< a dynamic body whose shape and density give no positive finite mass
   bad_material, ///< negative density, friction, restitution or damping
   bad_body,     ///< the id names no body
+  bad_shape,    ///< a MeshShape or HeightFieldShape that is empty or on a dynamic body
 };
 std::string_view to_string(BodyError e) noexcept;
 
@@ -164,9 +217,12 @@ struct WorldPointHit {
 };
 
 namespace detail {
-/// The contact manifold of two body shapes (A toward B), as the step computes it.
-Manifold collide(BodyShape const& a, Iso3 const& pa, BodyShape const& b, Iso3 const& pb,
-                 ManifoldConfig const& cfg);
+/// The contact manifolds of two body shapes (A toward B), as the step computes them: one for
+/// two convex shapes or a half-space, up to max_mesh_manifolds for a convex shape and a mesh
+/// (spatial/mesh_queries.hpp), none for two meshes or a mesh and a half-space. Returns how
+/// many of `out` it wrote (empty manifolds are not written; a failed one is, with count 0).
+int collide(BodyShape const& a, Iso3 const& pa, BodyShape const& b, Iso3 const& pb,
+            ManifoldConfig const& cfg, std::array<Manifold, max_mesh_manifolds>& out);
 } // namespace detail
 
 /// Two bodies in an event, the lower slot first (ids as they were when the event happened).
@@ -296,7 +352,7 @@ public:
   /// One ray_cast per ray (out[i] for rays[i]; out must be as long as rays).
   void ray_cast(std::span<Ray3 const> rays, float max_toi,
                 std::span<std::optional<WorldRayHit>> out, QueryFilter const& filter = {}) const;
-  /// The first body a convex shape (any BodyShape but HalfSpace) at `pose` hits moving by
+  /// The first body a convex shape (is_convex_shape) at `pose` hits moving by
   /// t * motion, t in [0, cfg.max_toi], with cfg's target distance and penetration rule.
   std::optional<WorldShapeHit> shape_cast(BodyShape const& shape, Iso3 const& pose,
                                           Vec3 const& motion, ShapeCastConfig const& cfg = {},
@@ -309,9 +365,10 @@ public:
   void overlap_shape(BodyShape const& shape, Iso3 const& pose, std::function<bool(BodyId)> const& f,
                      QueryFilter const& filter = {}) const;
   /// The contact manifold of every body within `distance` (>= 0, length units) of the convex
-  /// shape (any BodyShape but HalfSpace) at `pose`, by body index: A is the body, B the shape
+  /// shape (is_convex_shape) at `pose`, by body index: A is the body, B the shape
   /// (normal out of the body toward the shape, separation negative when they overlap, only
-  /// points with separation <= distance). f returns false to stop. Non-finite input or a
+  /// points with separation <= distance); a mesh body may give up to max_mesh_manifolds
+  /// manifolds, one call each. f returns false to stop. Non-finite input or a
   /// negative distance finds nothing.
   void contact_query(BodyShape const& shape, Iso3 const& pose, float distance,
                      std::function<bool(BodyId, Manifold const&)> const& f,
