@@ -154,8 +154,9 @@ bool finite(Vec3 const& v) noexcept {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
-/// The ray's entry into a box within [0, limit], or +infinity for a miss.
-float ray_entry(Ray3 const& ray, Aabb3 const& b, float limit) noexcept {
+} // namespace
+
+float detail::ray_box_entry(Ray3 const& ray, Aabb3 const& b, float limit) noexcept {
   auto const sx = detail::slab_interval(ray.origin.x, ray.dir.x, b.min.x, b.max.x);
   auto const sy = detail::slab_interval(ray.origin.y, ray.dir.y, b.min.y, b.max.y);
   auto const sz = detail::slab_interval(ray.origin.z, ray.dir.z, b.min.z, b.max.z);
@@ -164,68 +165,31 @@ float ray_entry(Ray3 const& ray, Aabb3 const& b, float limit) noexcept {
   return tin <= tout ? tin : std::numeric_limits<float>::infinity();
 }
 
-} // namespace
-
 MeshRayHit HeightField::ray_cast(Ray3 const& ray, float max_toi) const {
   MeshRayHit best;
-  if (levels_.empty() || !(max_toi >= 0.0f) || !finite(ray.origin) || !finite(ray.dir) ||
-      ray.dir.length_squared() == 0.0f)
-    return best;
+  if (!(max_toi >= 0.0f)) return best;
   // As TriangleMesh::ray_cast_with: blocks are tight (up to pad_), so a triangle's rounded
-  // toi can fall a few ulps before its block's rounded entry; the traversal prunes beyond
+  // toi can fall a few ulps before its block's rounded entry; the walk prunes beyond
   // best + slack only, which makes the result the least (toi, index) over all triangles.
   Vec3 const ao = ray.origin.abs(), ad = ray.dir.abs();
   float const dmax = std::max(std::max(ad.x, ad.y), ad.z);
   float const scale = (std::max(std::max(ao.x, ao.y), ao.z) + 1.0f) / dmax;
   float limit = max_toi;
-  float bound = max_toi;
-  struct entry {
-    std::uint32_t level, bx, bz;
-    float t;
-  };
-  std::vector<entry> stack;
-  std::size_t const top = levels_.size() - 1;
-  if (float const t = ray_entry(ray, block_box(top, 0, 0), bound); t <= bound)
-    stack.push_back({std::uint32_t(top), 0, 0, t});
-  while (!stack.empty()) {
-    entry const e = stack.back();
-    stack.pop_back();
-    if (e.t > bound) continue;
-    if (e.level == 0) {
-      std::uint32_t const c = e.bz * cells_x() + e.bx;
-      for (std::uint32_t t = 2 * c; t < 2 * c + 2; ++t) {
-        RayHit const h = ray_cast_local(triangle(t), ray, limit);
-        if (h.hit && (h.toi < limit || t < best.triangle)) {
-          best.triangle = t;
-          best.toi = h.toi;
-          best.normal = h.normal;
-          best.back = h.feature == 1.0f;
-          limit = h.toi;
-          float const next = limit + (limit + scale) * 0x1p-12f;
-          bound = next < max_toi ? next : max_toi;
-        }
+  walk_ray(ray, Vec3{}, max_toi, [&](std::uint32_t cell, float, float bound) {
+    for (std::uint32_t t = 2 * cell; t < 2 * cell + 2; ++t) {
+      RayHit const h = ray_cast_local(triangle(t), ray, limit);
+      if (h.hit && (h.toi < limit || t < best.triangle)) {
+        best.triangle = t;
+        best.toi = h.toi;
+        best.normal = h.normal;
+        best.back = h.feature == 1.0f;
+        limit = h.toi;
+        float const next = limit + (limit + scale) * 0x1p-12f;
+        bound = next < max_toi ? next : max_toi;
       }
-      continue;
     }
-    Level const& below = levels_[e.level - 1];
-    std::array<entry, 4> met;
-    std::size_t n = 0;
-    for (std::uint32_t j = 0; j < 2; ++j)
-      for (std::uint32_t i = 0; i < 2; ++i) {
-        std::uint32_t const x = 2 * e.bx + i, z = 2 * e.bz + j;
-        if (x >= below.w || z >= below.d) continue;
-        float const t = ray_entry(ray, block_box(e.level - 1, x, z), bound);
-        if (!(t <= bound)) continue;
-        // Sorted far to near: the nearest is pushed last and popped first.
-        entry const c{e.level - 1, x, z, t};
-        std::size_t k = n++;
-        for (; k > 0 && met[k - 1].t < c.t; --k)
-          met[k] = met[k - 1];
-        met[k] = c;
-      }
-    for (std::size_t k = 0; k < n; ++k)
-      stack.push_back(met[k]);
-  }
+    return bound;
+  });
   return best;
 }
 

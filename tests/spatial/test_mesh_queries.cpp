@@ -285,6 +285,45 @@ TEST_CASE("mesh_shape_cast equals the least cast over every triangle", "[spatial
   REQUIRE(hits > 100);
 }
 
+TEST_CASE("mesh_shape_cast onto a flat grid, where many triangles tie, equals brute force",
+          "[spatial][mesh]") {
+  // Shapes falling onto a flat floor meet several coplanar triangles at once (over a vertex,
+  // six): the casts' rounding and tolerance decide the least toi, so the candidates must not
+  // be pruned at the first toi found.
+  TriangleMesh const m = make(grid(8, 1.0f, [](float, float) { return 0.0f; }));
+  std::mt19937 g(15);
+  std::uniform_real_distribution<float> u(0, 1);
+  int differ = 0;
+  for (int k = 0; k < 400; ++k) {
+    float const x = std::round(1.0f + 6.0f * u(g)) + (k % 2 ? 0.0f : 0.5f * u(g));
+    float const z = std::round(1.0f + 6.0f * u(g));
+    Iso3 const pose = mesh_pose * Iso3{Quat::from_axis_angle(Vec3::Y, 6.28f * u(g)),
+                                       Vec3{x, 1.0f + u(g), z}};
+    Vec3 const motion = mesh_pose.transform_vector(Vec3{0.01f * (u(g) - 0.5f), -3.0f, 0.0f});
+    ShapeCastConfig cfg;
+    cfg.target_distance = k % 3 == 0 ? 0.02f : 0.0f;
+    auto const check = [&](auto const& shape) {
+      MeshShapeHit const got = mesh_shape_cast(m, mesh_pose, shape, pose, motion, cfg);
+      MeshShapeHit want;
+      for (std::uint32_t t = 0; t < m.triangle_count(); ++t) {
+        ShapeCastHit const c = shape_cast(shape, pose, motion, m.triangle(t), mesh_pose, cfg);
+        if (c.hit && !c.failed && c.toi < want.toi) {
+          want.triangle = t;
+          want.toi = c.toi;
+        }
+      }
+      REQUIRE(want.hit());
+      REQUIRE(got.triangle == want.triangle);
+      REQUIRE(same_bits(got.toi, want.toi));
+      differ += got.toi != want.toi;
+    };
+    check(Sphere{0.3f});
+    check(Cuboid{Vec3{0.4f, 0.3f, 0.2f}});
+    check(Capsule{0.3f, 0.2f});
+  }
+  CHECK(differ == 0);
+}
+
 TEST_CASE("mesh_overlaps reports exactly the triangles the shape touches", "[spatial][mesh]") {
   TriangleMesh const m = make(grid(16, 0.5f, terrain_height));
   std::mt19937 g(14);

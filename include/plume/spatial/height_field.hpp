@@ -35,6 +35,7 @@
 #include <plume/math/iso3.hpp>
 #include <plume/spatial/triangle_mesh.hpp>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -54,6 +55,11 @@ enum class HeightFieldError : std::uint8_t {
 char const* to_string(HeightFieldError e) noexcept;
 
 struct HeightFieldBuildResult;
+
+namespace detail {
+/// The ray's entry into a box within [0, limit], or +infinity for a miss (closed slabs).
+float ray_box_entry(Ray3 const& ray, Aabb3 const& box, float limit) noexcept;
+} // namespace detail
 
 class HeightField {
 public:
@@ -105,6 +111,20 @@ public:
     });
   }
 
+  /// As TriangleMesh::swept_query: f(triangle, entry) for each triangle whose cell's box,
+  /// grown by `grow`, the ray enters within max_toi, nearest cell first; f returns the new
+  /// max_toi (negative to stop).
+  template <class F>
+  void swept_query(Ray3 const& ray, Vec3 const& grow, float max_toi, F&& f) const {
+    walk_ray(ray, grow, max_toi, [&](std::uint32_t cell, float entry, float limit) {
+      for (std::uint32_t t = 2 * cell; t < 2 * cell + 2; ++t) {
+        limit = f(t, entry);
+        if (!(limit >= 0.0f)) break;
+      }
+      return limit;
+    });
+  }
+
   /// The nearest point at distance <= max_distance from p (ties to the lower triangle).
   MeshClosestPoint closest_point(Vec3 const& p, float max_distance) const;
   MeshClosestPoint closest_point(Iso3 const& pose, Vec3 const& p, float max_distance) const;
@@ -120,6 +140,10 @@ private:
   /// Calls f(triangle) for every triangle whose box meets box until f returns false.
   template <class F>
   void visit_cells(Aabb3 const& box, F&& f) const;
+  /// Calls f(cell, entry, max_toi) for each cell whose box, grown by `grow`, the ray enters
+  /// within max_toi, nearest first; f returns the new max_toi (negative to stop).
+  template <class F>
+  void walk_ray(Ray3 const& ray, Vec3 const& grow, float max_toi, F&& f) const;
 
   std::uint32_t nx_ = 0, nz_ = 0;
   float sx_ = 0.0f, sz_ = 0.0f;
@@ -162,6 +186,52 @@ void HeightField::visit_cells(Aabb3 const& box, F&& f) const {
         std::uint32_t const x = 2 * e.bx + i, z = 2 * e.bz + j;
         if (x < below.w && z < below.d) stack.push_back({e.level - 1, x, z});
       }
+  }
+}
+
+template <class F>
+void HeightField::walk_ray(Ray3 const& ray, Vec3 const& grow, float max_toi, F&& f) const {
+  if (levels_.empty() || !(max_toi >= 0.0f) || !bool(ray.origin.is_finite()) ||
+      !bool(ray.dir.is_finite()) || ray.dir.length_squared() == 0.0f)
+    return;
+  auto const enter = [&](Aabb3 const& b, float limit) {
+    return detail::ray_box_entry(ray, {b.min - grow, b.max + grow}, limit);
+  };
+  struct entry {
+    std::uint32_t level, bx, bz;
+    float t;
+  };
+  std::vector<entry> stack;
+  std::size_t const top = levels_.size() - 1;
+  if (float const t = enter(block_box(top, 0, 0), max_toi); t <= max_toi)
+    stack.push_back({std::uint32_t(top), 0, 0, t});
+  while (!stack.empty()) {
+    entry const e = stack.back();
+    stack.pop_back();
+    if (e.t > max_toi) continue;
+    if (e.level == 0) {
+      max_toi = f(e.bz * cells_x() + e.bx, e.t, max_toi);
+      if (!(max_toi >= 0.0f)) return;
+      continue;
+    }
+    Level const& below = levels_[e.level - 1];
+    std::array<entry, 4> met;
+    std::size_t n = 0;
+    for (std::uint32_t j = 0; j < 2; ++j)
+      for (std::uint32_t i = 0; i < 2; ++i) {
+        std::uint32_t const x = 2 * e.bx + i, z = 2 * e.bz + j;
+        if (x >= below.w || z >= below.d) continue;
+        float const t = enter(block_box(e.level - 1, x, z), max_toi);
+        if (!(t <= max_toi)) continue;
+        // Sorted far to near: the nearest is pushed last and popped first.
+        entry const c{e.level - 1, x, z, t};
+        std::size_t k = n++;
+        for (; k > 0 && met[k - 1].t < c.t; --k)
+          met[k] = met[k - 1];
+        met[k] = c;
+      }
+    for (std::size_t k = 0; k < n; ++k)
+      stack.push_back(met[k]);
   }
 }
 

@@ -35,10 +35,13 @@
 //  Point ids mix the triangle index into the feature id, so the same point on the same
 //  triangle keeps its id across frames (warm starting), and ids stay unique in a group.
 //
-// Shape casts: the least time of impact over the triangles whose boxes meet the swept box
-// (ties to the lower triangle), each cast by collision/gjk.hpp's shape_cast with the same
-// config: bit for bit the result of casting against every triangle. The normal points out of
-// the mesh toward the cast shape.
+// Shape casts: the least time of impact over the triangles (ties to the lower triangle), each
+// cast by collision/gjk.hpp's shape_cast with the same config: bit for bit the result of
+// casting against every triangle. The candidates come nearest first from the mesh's tree (or
+// the field's pyramid) with every box grown by the shape's box (in the mesh's frame) and the
+// target distance, and a box entered later than the best time of impact found so far, plus a
+// slack for the cast's tolerance and rounding, is skipped. The normal points out of the mesh
+// toward the cast shape.
 //
 // Bad input: a non-finite pose gives failed contacts (none) and no cast hit or overlap; a
 // non-finite motion, or a NaN, negative or infinite max_toi, gives no cast hit; an empty
@@ -73,6 +76,7 @@ concept TriangleSource = requires(M const& m, std::uint32_t t, Aabb3 const& box)
   { m.edges(t) } -> std::convertible_to<TriangleEdges>;
   { m.triangle_count() } -> std::convertible_to<std::size_t>;
   m.query_aabb(box, [](std::uint32_t) {});
+  m.swept_query(Ray3{}, Vec3{}, 1.0f, [](std::uint32_t, float) { return 1.0f; });
 };
 
 /// The most manifolds mesh_contacts reports for one shape.
@@ -292,20 +296,44 @@ MeshShapeHit mesh_shape_cast(Mesh const& mesh, Iso3 const& mesh_pose, Shape cons
       !(cfg.max_toi >= 0.0f) || !std::isfinite(cfg.max_toi) || !(cfg.target_distance >= 0.0f))
     return best;
   Aabb3 const start = shape.aabb(pose);
-  Aabb3 const end = shape.aabb(Iso3{pose.rotation, pose.translation + motion * cfg.max_toi});
-  Aabb3 const swept = start.merge(end).grow(cfg.target_distance);
-  if (!bool(swept.is_valid())) return best;
-  std::vector<std::uint32_t> tris;
-  detail::mesh_candidates(mesh, mesh_pose, swept, tris);
-  for (std::uint32_t const t : tris) {
+  if (!bool(start.is_valid())) return best;
+  auto const test = [&](std::uint32_t t) {
     ShapeCastHit const c = shape_cast(shape, pose, motion, mesh.triangle(t), mesh_pose, cfg);
-    if (!c.hit || c.failed || !(c.toi < best.toi)) continue; // ties: the lower index, first
+    if (!c.hit || c.failed) return;
+    if (!(c.toi < best.toi || (c.toi == best.toi && t < best.triangle))) return;
     best.triangle = t;
     best.toi = c.toi;
     best.point = c.point_b;
     best.normal = -c.normal;
     best.penetrating = bool(c.penetrating);
+  };
+  float const speed = motion.length();
+  if (!(speed > 0.0f) || cfg.max_toi == 0.0f || !std::isfinite(speed)) {
+    // No sweep: only a start in contact can hit.
+    std::vector<std::uint32_t> tris;
+    detail::mesh_candidates(mesh, mesh_pose, start.grow(cfg.target_distance), tris);
+    for (std::uint32_t const t : tris)
+      test(t);
+    return best;
   }
+  // The shape's box in the mesh's frame, swept along the motion from its centre.
+  Aabb3 const local = detail::to_mesh_local(start, mesh_pose).grow(cfg.target_distance);
+  Vec3 const half = (local.max - local.min) * 0.5f, centre = (local.min + local.max) * 0.5f;
+  Ray3 const sweep{centre, mesh_pose.inverse_transform_vector(motion)};
+  // GJK's toi is within its tolerance (or the rounding floor of the coordinates) of the true
+  // one, so a box entered up to that much after the best toi may still hold a triangle whose
+  // cast reports a toi at or below it.
+  float const reach = std::max(std::max(pose.translation.abs().max_element(),
+                                        mesh_pose.translation.abs().max_element()),
+                               half.max_element()) +
+                      1.0f;
+  float const slack = (4.0f * cfg.gjk.tolerance + 64.0f * 0x1p-23f * reach) / speed;
+  mesh.swept_query(sweep, half, cfg.max_toi, [&](std::uint32_t t, float) {
+    test(t);
+    if (!best.hit()) return cfg.max_toi;
+    float const bound = best.toi + slack + best.toi * 0x1p-12f;
+    return bound < cfg.max_toi ? bound : cfg.max_toi;
+  });
   return best;
 }
 

@@ -145,6 +145,16 @@ public:
   template <class F>
   void query_aabb(Aabb3 const& box, F&& f) const;
 
+  /// f(triangle, entry) for each triangle whose box, grown by `grow` (>= 0) on each side, the
+  /// ray enters at entry in [0, max_toi], nearest first; f returns the new max_toi (smaller
+  /// to clip, negative to stop). A box of half extents `grow` swept from the ray's origin
+  /// along it meets only these triangles' boxes: a shape cast's candidates.
+  template <class F>
+  void swept_query(Ray3 const& ray, Vec3 const& grow, float max_toi, F&& f) const {
+    bvh_.swept_query(ray, grow, max_toi,
+                     [&](ProxyId id, float entry) { return float(f(std::uint32_t(id), entry)); });
+  }
+
   /// The nearest point of the mesh at distance <= max_distance from p (ties to the lower
   /// triangle). A non-finite p or a NaN or negative max_distance finds nothing.
   MeshClosestPoint closest_point(Vec3 const& p, float max_distance) const;

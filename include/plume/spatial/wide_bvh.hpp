@@ -87,7 +87,16 @@ public:
   /// nearest first within each node; f returns the new max_toi (max_toi to go on, smaller to
   /// clip, negative to stop).
   template <class F>
-  void ray_query(GRay3<S> const& ray, S max_toi, F&& f) const;
+  void ray_query(GRay3<S> const& ray, S max_toi, F&& f) const {
+    walk_ray<false>(ray, GVec3<S>{}, max_toi, f);
+  }
+  /// ray_query with every fat box grown by `grow` (>= 0) on each side: the leaves a box of
+  /// half extents `grow` centred on the ray's origin may meet while it moves along the ray
+  /// (a shape cast's candidates, nearest first).
+  template <class F>
+  void swept_query(GRay3<S> const& ray, GVec3<S> const& grow, S max_toi, F&& f) const {
+    walk_ray<true>(ray, grow, max_toi, f);
+  }
 
   /// The least toi the leaf cast gives, ties to the lower proxy; leaf(ProxyId, S max_toi)
   /// returns the toi of the proxy's shape (a value above max_toi, e.g. +infinity, is a miss).
@@ -101,6 +110,9 @@ public:
   void query(GAabb3<S> const& box, F&& f) const;
 
 private:
+  template <bool Grown, class F>
+  void walk_ray(GRay3<S> const& ray, GVec3<S> const& grow, S max_toi, F& f) const;
+
   std::vector<Node> nodes_;
   std::size_t leaves_ = 0;
 };
@@ -207,9 +219,11 @@ void GWideBvh<T, K>::build(GAabbTree<S> const& tree) {
 // ------------------------------------------------------------------------ queries
 
 template <Real T, std::size_t K>
-template <class F>
-void GWideBvh<T, K>::ray_query(GRay3<S> const& ray, S max_toi, F&& f) const {
+template <bool Grown, class F>
+void GWideBvh<T, K>::walk_ray(GRay3<S> const& ray, GVec3<S> const& grow, S max_toi,
+                              F& f) const {
   if (nodes_.empty() || !detail::usable_ray(ray) || !(max_toi >= S(0))) return;
+  [[maybe_unused]] GVec3<T> const g3 = detail::splat3<T>(grow);
   bool const neg[3] = {std::signbit(ray.dir.x), std::signbit(ray.dir.y), std::signbit(ray.dir.z)};
   auto const r =
       detail::make_ray_slab(detail::splat3<T>(ray.origin), detail::splat3<T>(ray.dir), neg);
@@ -233,7 +247,11 @@ void GWideBvh<T, K>::ray_query(GRay3<S> const& ray, S max_toi, F&& f) const {
     T const limit = plume::splat<T>(max_toi);
     for (std::size_t g = 0; g < groups; ++g) {
       T en;
-      auto const m = detail::ray_enters(r, node.box[g].min, node.box[g].max, limit, en);
+      mask_t<T> m;
+      if constexpr (Grown)
+        m = detail::ray_enters(r, node.box[g].min - g3, node.box[g].max + g3, limit, en);
+      else
+        m = detail::ray_enters(r, node.box[g].min, node.box[g].max, limit, en);
       plume::store_aligned(&entry[g * lanes], en);
       bits |= plume::bitmask(m) << (g * lanes);
     }
