@@ -24,6 +24,15 @@
 //                                         + rebuild(), the WideBvh copy); items = triangles.
 //   spatial_build/terrain1m/embree       a new scene with the triangle geometry to
 //                                         rtcCommitScene; items = triangles.
+//   spatial_ray/terrain1m/plume/heightfield  the same rays on a HeightField of the same
+//                                         heights (no stored triangles, a min-max pyramid).
+//   spatial_shape_cast/terrain1m/plume/<mesh|heightfield>  mesh_shape_cast of a capsule
+//                                         (radius 0.3, half height 0.5) from 2 m above the
+//                                         terrain, 6 m down and across; items = casts.
+//   spatial_overlap/terrain1m/plume/<mesh|heightfield>  mesh_intersects of a 0.4 m box at
+//                                         the terrain's surface, half touching; items = queries.
+//   spatial_contacts/terrain1m/plume/<mesh|heightfield>  mesh_contacts of a 0.5 m box resting
+//                                         1 cm deep (internal edges corrected); items = queries.
 //   spatial_ray/stress10k_after_updates/plume/x<W>  rays against the stress tree after 300
 //                                         frames of reinsert updates; counters compare it with a
 //                                         fresh rebuild of the same boxes.
@@ -602,8 +611,109 @@ void register_terrain_rays() {
   });
 }
 
+/// The terrain's heights as a HeightField, and R poses for the shape queries.
+struct terrain_queries {
+  plume::HeightField field;
+  std::vector<plume::Iso3> above, resting, touching;
+  std::vector<Vec3> motion;
+  terrain_queries() {
+    terrain_scene const& t = terrain();
+    std::vector<float> h(t.vertices.size());
+    for (std::size_t i = 0; i < h.size(); ++i)
+      h[i] = t.vertices[i].y;
+    auto r = plume::HeightField::build(terrain_side, terrain_side, h, 0.1f, 0.1f);
+    if (!r.ok())
+      throw std::logic_error(std::string("bench_spatial: height field: ") + to_string(r.error));
+    field = std::move(r.field);
+    std::mt19937 g(4712);
+    std::uniform_real_distribution<float> u(0, 1);
+    float const extent = float(terrain_side - 1) * 0.1f;
+    for (std::size_t i = 0; i < R; ++i) {
+      float const x = 1.0f + (extent - 2.0f) * u(g), z = 1.0f + (extent - 2.0f) * u(g);
+      float const y = terrain_scene::height(x, z);
+      plume::Quat const q =
+          plume::Quat::from_axis_angle(Vec3{u(g), 1.0f, u(g)}.normalize(), 6.28f * u(g));
+      above.push_back({q, {x, y + 2.0f, z}});
+      motion.push_back({u(g) - 0.5f, -6.0f, u(g) - 0.5f});
+      resting.push_back({q, {x, y + 0.5f - 0.01f, z}});
+      touching.push_back({q, {x, y + (i % 2 ? 0.3f : 0.6f), z}});
+    }
+  }
+};
+
+terrain_queries const& terrain_query_scene() {
+  static terrain_queries const q;
+  return q;
+}
+
+/// Registers one terrain shape query on the mesh and on the height field; `run` answers query i
+/// on the given TriangleSource and returns something to keep alive.
+template <class Run>
+void register_terrain_query(std::string const& kind, Run run) {
+  auto const add = [&](std::string const& source, auto pick) {
+    std::string const name = "spatial_" + kind + "/terrain1m/plume/" + source;
+    benchmark::RegisterBenchmark(name.c_str(), [run, pick](benchmark::State& st) {
+      terrain_queries const& q = terrain_query_scene();
+      auto const& mesh = pick(q);
+      float sink = 0.0f;
+      plume::bench::run_items(st, std::int64_t(R), [&] {
+        for (std::size_t i = 0; i < R; ++i)
+          sink += run(mesh, q, i);
+        benchmark::DoNotOptimize(sink);
+      });
+    });
+  };
+  add("mesh", [](terrain_queries const&) -> plume::TriangleMesh const& { return terrain().mesh; });
+  add("heightfield", [](terrain_queries const& q) -> plume::HeightField const& { return q.field; });
+}
+
+void register_terrain_queries() {
+  benchmark::RegisterBenchmark("spatial_ray/terrain1m/plume/heightfield", [](benchmark::State& st) {
+    terrain_scene const& t = terrain();
+    plume::HeightField const& f = terrain_query_scene().field;
+    std::vector<TreeRayHit> hits(R);
+    auto const cast = [&] {
+      for (std::size_t i = 0; i < R; ++i) {
+        plume::MeshRayHit const h = f.ray_cast(plume::Ray3{t.origin[i], t.dir[i]}, max_toi_all);
+        TreeRayHit r;
+        if (h.hit()) r.proxy = h.triangle, r.toi = h.toi;
+        hits[i] = r;
+      }
+    };
+    cast();
+    if (std::string const bad = mismatches(hits, t.reference); !bad.empty()) {
+      st.SkipWithError(("hits differ from the mesh's: " + bad).c_str());
+      return;
+    }
+    plume::bench::run_items(st, std::int64_t(R), [&] {
+      cast();
+      benchmark::DoNotOptimize(hits.data());
+      benchmark::ClobberMemory();
+    });
+  });
+  register_terrain_query(
+      "shape_cast", [](auto const& mesh, terrain_queries const& q, std::size_t i) {
+        plume::ShapeCastConfig cfg;
+        plume::MeshShapeHit const h = plume::mesh_shape_cast(
+            mesh, plume::Iso3{}, plume::Capsule{0.5f, 0.3f}, q.above[i], q.motion[i], cfg);
+        return h.toi < 2.0f ? h.toi : 0.0f;
+      });
+  register_terrain_query("overlap", [](auto const& mesh, terrain_queries const& q, std::size_t i) {
+    return plume::mesh_intersects(mesh, plume::Iso3{}, plume::Cuboid{Vec3::splat(0.4f)},
+                                  q.touching[i])
+               ? 1.0f
+               : 0.0f;
+  });
+  register_terrain_query("contacts", [](auto const& mesh, terrain_queries const& q, std::size_t i) {
+    plume::MeshContacts const c =
+        plume::mesh_contacts(mesh, plume::Iso3{}, plume::Cuboid{Vec3::splat(0.5f)}, q.resting[i]);
+    return float(c.count);
+  });
+}
+
 void register_terrain() {
   plume::bench::for_each_f32_width([]<class T>() { register_terrain_rays<T>(); });
+  register_terrain_queries();
 #if PLUME_HAVE_EMBREE
   benchmark::RegisterBenchmark("spatial_ray/terrain1m/embree/x1", [](benchmark::State& st) {
     terrain_scene const& t = terrain();
