@@ -441,6 +441,60 @@ std::uint64_t world_edit_battery() {
   return h;
 }
 
+/// A dynamic tree through an edit sequence (inserts, moves, removes, every optimisation mode,
+/// a bulk insert), hashed node by node (structure and boxes), then rays and box queries through
+/// its wide copy at width T: the same operations give the same tree in every build, and every
+/// width finds the same leaves.
+template <class T>
+std::uint64_t tree_battery() {
+  stream st;
+  AabbTree tree;
+  std::vector<ProxyId> ids;
+  auto const box = [&](double spread) {
+    Vec3 const c = st.vec3<float>(spread);
+    Vec3 const e = st.vec3<float>(0.5).abs() + Vec3::splat(0.01f);
+    return Aabb3{c - e, c + e};
+  };
+  for (int i = 0; i < 300; ++i)
+    ids.push_back(tree.insert(box(20.0), std::uint64_t(i)));
+  TreeOptimization const modes[] = {TreeOptimization::reinsert, TreeOptimization::partial_rebuild,
+                                    TreeOptimization::full_rebuild, TreeOptimization::adaptive};
+  for (int round = 0; round < 8; ++round) {
+    for (std::size_t k = std::size_t(round); k < ids.size(); k += 3)
+      tree.move(ids[k], box(20.0));
+    tree.optimize(modes[round % 4]);
+  }
+  for (std::size_t k = 0; k < ids.size(); k += 5)
+    tree.remove(ids[k]);
+  std::vector<Aabb3> bulk;
+  for (int i = 0; i < 100; ++i)
+    bulk.push_back(box(30.0));
+  tree.insert_all(bulk);
+  tree.optimize();
+  fnv h;
+  for (auto const& node : tree.nodes()) {
+    h.add(float(node.height));
+    h.add(std::bit_cast<float>(node.left));
+    h.add(std::bit_cast<float>(node.proxy));
+    for (float v : {node.box.min.x, node.box.min.y, node.box.min.z, node.box.max.x, node.box.max.y,
+                    node.box.max.z})
+      h.add(v);
+  }
+  GWideBvh<T> const wide(tree);
+  for (int k = 0; k < 32; ++k) {
+    Ray3 const ray{st.vec3<float>(40.0), st.vec3<float>(1.0)};
+    TreeRayHit const hit = wide.ray_cast(ray, 100.0f, [&](ProxyId id, float max_toi) {
+      return plume::detail::ray_box_entry(ray, tree.tight_box(id), max_toi); // the tight box
+    });
+    h.add(std::bit_cast<float>(hit.proxy));
+    h.add(hit.toi);
+    int met = 0;
+    wide.query(box(20.0), [&](ProxyId id) { return h.add(std::bit_cast<float>(id)), ++met, true; });
+    h.add(float(met));
+  }
+  return h.h;
+}
+
 /// Bodies dropped on a terrain mesh and a terrain height field side by side (contacts with
 /// corrected internal edges, several manifolds per pair), then rays, casts and contact
 /// queries against both.
@@ -542,6 +596,7 @@ int main(int argc, char** argv) {
   battery("world_f32", f32_widths{}, []<class T>() { return world_battery<T>(); });
   battery("world_edit_f32", f32_widths{}, []<class T>() { return world_edit_battery<T>(); });
   battery("world_mesh_f32", f32_widths{}, []<class T>() { return world_mesh_battery<T>(); });
+  battery("tree_f32", f32_widths{}, []<class T>() { return tree_battery<T>(); });
   record("contact_f64", contact_battery<double>(), {});
   if (argc == 3 && !std::strcmp(argv[1], "--check")) {
     std::ifstream f(argv[2]);
