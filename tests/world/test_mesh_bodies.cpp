@@ -10,6 +10,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -269,4 +270,31 @@ TEST_CASE("mesh bodies: every width steps the same world", "[world][mesh][determ
   for_each_type<test::f32_wide_types>(
       [&]<class T>() { CHECK(run(std::type_identity<T>{}) == scalar); });
   CHECK(run(std::type_identity<float>{}) == scalar);
+}
+
+TEST_CASE("mesh bodies: the narrow phase turns a mesh's manifolds round when the mesh is B",
+          "[world][mesh]") {
+  BodyShape const floor = MeshShape{flat_floor()};
+  BodyShape const box = Cuboid{Vec3::splat(0.5f)};
+  Iso3 const floor_pose = Iso3::from_translation({-8.0f, 0.0f, -8.0f});
+  Iso3 const box_pose{Quat::from_axis_angle(Vec3::Y, 0.3f), {0.2f, 0.5f - 0.01f, 0.4f}};
+  ManifoldConfig const cfg;
+  std::array<Manifold, max_mesh_manifolds> as_a, as_b;
+  REQUIRE(detail::collide(floor, floor_pose, box, box_pose, cfg, as_a) == 1);
+  REQUIRE(detail::collide(box, box_pose, floor, floor_pose, cfg, as_b) == 1);
+  Manifold const& a = as_a[0];
+  Manifold const& b = as_b[0];
+  CHECK(a.normal.y == Approx(1.0f).margin(1e-6)); // from A (the floor) toward the box
+  CHECK(b.normal.y == Approx(-1.0f).margin(1e-6)); // from A (the box) toward the floor
+  REQUIRE(a.count == 4);
+  REQUIRE(b.count == 4);
+  for (int k = 0; k < 4; ++k) {
+    ContactPoint const& pa = a.points[std::size_t(k)];
+    ContactPoint const& pb = b.points[std::size_t(k)];
+    CHECK(pa.point_a.y == Approx(0.0f).margin(1e-5));   // on the floor
+    CHECK(pa.point_b.y == Approx(-0.01f).margin(1e-5)); // on the box's bottom face
+    CHECK(same_bits(pb.point_a, pa.point_b));           // the same points, turned round
+    CHECK(same_bits(pb.point_b, pa.point_a));
+    CHECK(same_bits(pb.separation, pa.separation));
+  }
 }
