@@ -47,7 +47,10 @@ for v in "${variants[@]}"; do
   step "variant $v: build"
   # Each wide variant tests its own width (tests/common/types.hpp): every width is tested in
   # the build whose width it is, the scalar types in the scalar build.
-  if ! configure_build "$v" -DPLUME_TEST_TYPES=native; then
+  # The examples (docs/examples) are built and run once, in the scalar variant.
+  examples=OFF
+  [ "$v" = scalar ] && examples=ON
+  if ! configure_build "$v" -DPLUME_TEST_TYPES=native -DPLUME_BUILD_EXAMPLES=$examples; then
     failed+=("$v build")
     continue
   fi

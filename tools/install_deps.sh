@@ -7,7 +7,7 @@ set -euo pipefail
 packages=(
   cmake ninja-build g++ clang
   libxsimd-dev libeigen3-dev catch2 libbenchmark-dev
-  libsleef-dev libglm-dev libembree-dev libmpfr-dev
+  libsleef-dev libglm-dev libembree-dev libmpfr-dev libtinyobjloader-dev
   python3 python3-matplotlib
 )
 
