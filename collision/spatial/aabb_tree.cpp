@@ -282,6 +282,104 @@ void GAabbTree<S>::remove_leaf(std::uint32_t leaf) {
 
 template <Float S>
 std::uint32_t GAabbTree<S>::build(std::span<std::uint32_t> prims) {
+  return config_.builder == TreeBuilder::ploc ? build_ploc(prims) : build_sah(prims);
+}
+
+template <Float S>
+std::uint32_t GAabbTree<S>::build_ploc(std::span<std::uint32_t> prims) {
+  // Bottom-up PLOC: the prims (leaves or subtrees) sorted along a Morton curve of their boxes'
+  // centres; each pass, every cluster finds the neighbour within ploc_radius places whose
+  // merged box has the least area (ties: the nearer, then the partner i ^ 1 - so that equal
+  // boxes pair up and halve each pass - then the earlier), mutual pairs merge
+  // into a new parent in the place of the first, and the list closes up, until one is left.
+  // The global least pair is always mutual, so every pass merges at least one pair.
+  if (prims.empty()) return null_node;
+  std::size_t const n = prims.size();
+  int const radius = std::clamp(config_.ploc_radius, 1, 64);
+  auto centre = [&](std::uint32_t node) {
+    Box const& b = nodes_[node].box;
+    return b.min * S(0.5) + b.max * S(0.5);
+  };
+  Box cb;
+  for (std::uint32_t p : prims)
+    cb = cb.grow_to(centre(p));
+  GVec3<S> const lo = cb.min, ext = cb.size();
+  // 10 bits per axis; an axis without spread (or with a spread that overflows) gives 0.
+  auto const quantise = [](S c, S l, S w) -> std::uint32_t {
+    S const v = (c - l) / w * S(1023);
+    return v > S(0) && v < S(1024) ? std::uint32_t(v) : (v >= S(1024) ? 1023u : 0u);
+  };
+  auto const spread = [](std::uint32_t v) {
+    v = (v | (v << 16)) & 0x030000ffu;
+    v = (v | (v << 8)) & 0x0300f00fu;
+    v = (v | (v << 4)) & 0x030c30c3u;
+    return (v | (v << 2)) & 0x09249249u;
+  };
+  struct keyed {
+    std::uint32_t code, order, node;
+  };
+  std::vector<keyed> keys(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    GVec3<S> const c = centre(prims[i]);
+    std::uint32_t const x = quantise(c.x, lo.x, ext.x), y = quantise(c.y, lo.y, ext.y),
+                        z = quantise(c.z, lo.z, ext.z);
+    keys[i] = {(spread(x) << 2) | (spread(y) << 1) | spread(z), std::uint32_t(i), prims[i]};
+  }
+  std::sort(keys.begin(), keys.end(), [](keyed const& a, keyed const& b) {
+    return a.code != b.code ? a.code < b.code : a.order < b.order;
+  });
+  std::vector<std::uint32_t> clusters(n), next;
+  for (std::size_t i = 0; i < n; ++i)
+    clusters[i] = keys[i].node;
+  std::vector<std::uint32_t> nearest(n);
+  while (clusters.size() > 1) {
+    std::size_t const m = clusters.size();
+    for (std::size_t i = 0; i < m; ++i) {
+      std::size_t const first = i >= std::size_t(radius) ? i - std::size_t(radius) : 0;
+      std::size_t const last = std::min(m - 1, i + std::size_t(radius));
+      Box const& bi = nodes_[clusters[i]].box;
+      S best = std::numeric_limits<S>::infinity();
+      std::size_t best_j = i == 0 ? 1 : i - 1;
+      std::size_t best_gap = m;
+      for (std::size_t j = first; j <= last; ++j) {
+        if (j == i) continue;
+        S const a = area(bi.merge(nodes_[clusters[j]].box));
+        std::size_t const gap = j > i ? j - i : i - j;
+        bool const better =
+            a < best || (a == best && (gap < best_gap || (gap == best_gap && j == (i ^ 1))));
+        if (better) { // j ascending: remaining ties go earlier
+          best = a;
+          best_j = j;
+          best_gap = gap;
+        }
+      }
+      nearest[i] = std::uint32_t(best_j);
+    }
+    next.clear();
+    for (std::size_t i = 0; i < m; ++i) {
+      std::size_t const j = nearest[i];
+      if (nearest[j] == i) {
+        if (i > j) continue; // merged into j's place
+        std::uint32_t const parent = allocate_node();
+        Node& p = nodes_[parent];
+        p.left = clusters[i];
+        p.right = clusters[j];
+        p.box = nodes_[p.left].box.merge(nodes_[p.right].box);
+        p.height = 1 + std::max(nodes_[p.left].height, nodes_[p.right].height);
+        nodes_[p.left].parent = parent;
+        nodes_[p.right].parent = parent;
+        next.push_back(parent);
+      } else {
+        next.push_back(clusters[i]);
+      }
+    }
+    clusters.swap(next);
+  }
+  return clusters[0];
+}
+
+template <Float S>
+std::uint32_t GAabbTree<S>::build_sah(std::span<std::uint32_t> prims) {
   // Top-down binned SAH (16 bins per axis on the centroids' bounds). Each task splits a
   // range of prims into two and makes their parent; a range of one is that prim itself.
   // Where every centroid is the same point, or no plane separates the bins, the range is

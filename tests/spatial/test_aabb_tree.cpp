@@ -867,3 +867,59 @@ TEST_CASE("aabb tree: builds over centroid spreads that overflow or are subnorma
     CHECK(tree.validate() == "");
   }
 }
+
+TEMPLATE_TEST_CASE("tree: PLOC builds valid, exact, balanced trees close to binned SAH's",
+                   "[spatial][tree][ploc]", float, double) {
+  using S = TestType;
+  GTreeConfig<S> ploc;
+  ploc.builder = TreeBuilder::ploc;
+  for (int n : {1, 2, 3, 17, 1000, 5000}) {
+    INFO(n << " boxes");
+    GAabbTree<S> tree = random_tree<S>(31, n, 50, 2, ploc);
+    tree.rebuild();
+    REQUIRE(tree.validate() == "");
+    REQUIRE(exact_unions(tree));
+    auto const st = tree.stats();
+    CHECK(st.proxies == std::size_t(n));
+    CHECK(st.nodes == std::size_t(2 * n - 1));
+    check_many_queries(tree, 2, 50, 55);
+    if (n < 1000) continue;
+    // The same boxes built by binned SAH: PLOC's cost within 15% (measured: about 5% over).
+    GAabbTree<S> sah = random_tree<S>(31, n, 50, 2);
+    sah.rebuild();
+    CHECK(st.area_ratio <= sah.stats().area_ratio * S(1.15));
+    CHECK(st.height <= 3 * int(std::ceil(std::log2(double(n)))));
+  }
+  // Every optimisation mode over it stays exact.
+  for (TreeOptimization mode : {TreeOptimization::reinsert, TreeOptimization::partial_rebuild,
+                                TreeOptimization::full_rebuild}) {
+    GAabbTree<S> tree = random_tree<S>(21, 1000, 20, 3, ploc);
+    tree.rebuild();
+    std::mt19937 g(8);
+    std::vector<ProxyId> ids;
+    for (std::size_t i = 0; i < 300; ++i)
+      ids.push_back(ProxyId((i * 7919) % 1000));
+    move_out(tree, ids, g);
+    tree.optimize(mode);
+    REQUIRE(tree.validate() == "");
+    REQUIRE(exact_unions(tree));
+    check_many_queries(tree, 17, 100);
+  }
+  // Equal boxes pair up every pass: 2^16 boxes at one point give a perfect tree (a tie rule
+  // that paired only the first two would need 2^16 passes and a chain).
+  GAabbTree<S> same(ploc);
+  std::vector<GAabb3<S>> const boxes(std::size_t(1) << 16, GAabb3<S>{{1, 2, 3}, {2, 3, 4}});
+  same.insert_all(boxes);
+  REQUIRE(same.validate() == "");
+  CHECK(same.stats().height == 16);
+  // The same boxes in the same order give the same tree, node for node.
+  GAabbTree<S> a = random_tree<S>(41, 3000, 30, 2, ploc), b = random_tree<S>(41, 3000, 30, 2, ploc);
+  a.rebuild();
+  b.rebuild();
+  REQUIRE(a.nodes().size() == b.nodes().size());
+  for (std::size_t k = 0; k < a.nodes().size(); ++k) {
+    REQUIRE(a.nodes()[k].left == b.nodes()[k].left);
+    REQUIRE(a.nodes()[k].right == b.nodes()[k].right);
+    REQUIRE(same_box(a.nodes()[k].box, b.nodes()[k].box));
+  }
+}

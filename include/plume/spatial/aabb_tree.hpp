@@ -14,13 +14,14 @@
 // the leaf gets a new fat box, its ancestors are enlarged at once (queries stay exact), and
 // the leaf is remembered as moved. optimize() then restores the tree's quality:
 //   reinsert         each moved leaf is taken out and inserted again (SAH sibling search);
-//   partial_rebuild  the inner nodes above moved leaves are dissolved and rebuilt by binned SAH
-//                    over the subtrees that hang off them;
-//   full_rebuild     every inner node is rebuilt by binned SAH over all leaves;
+//   partial_rebuild  the inner nodes above moved leaves are dissolved and rebuilt (by the
+//                    config's builder) over the subtrees that hang off them;
+//   full_rebuild     every inner node is rebuilt over all leaves;
 //   adaptive         by the fraction f of moved leaves: f < 0.15 reinsert, f < 0.45 partial
 //                    rebuild, else full rebuild (Avian 0.6's thresholds).
 // Insertion finds the sibling of least SAH cost by branch and bound over the whole tree (the
-// exact optimum of that greedy step, not Box2D's single-path descent). Identical boxes
+// exact optimum of that greedy step, not Box2D's single-path descent). Builds are top-down
+// binned SAH by default, or bottom-up PLOC (TreeConfig::builder). Identical boxes
 // inserted one by one all tie with the root and form a chain; insert_all() or rebuild()
 // balances them (a million boxes at one point give height ceil(log2 N)).
 //
@@ -53,6 +54,12 @@ inline constexpr ProxyId null_proxy = 0xffffffffu;
 
 enum class TreeOptimization : std::uint8_t { reinsert, partial_rebuild, full_rebuild, adaptive };
 
+/// How rebuild(), insert_all() and the rebuilding optimisations build a tree.
+enum class TreeBuilder : std::uint8_t {
+  binned_sah, ///< top-down, 16 bins per axis on the centroids (Wald 2007)
+  ploc,       ///< bottom-up, PLOC (Meister and Bittner 2018) with search radius ploc_radius
+};
+
 /// The margin rule of a tree's enlarged boxes.
 template <Float S>
 struct GTreeConfig {
@@ -61,6 +68,11 @@ struct GTreeConfig {
   /// adaptive: below this fraction of moved leaves reinsert, below the next partial rebuild.
   S reinsert_below = S(0.15);
   S partial_below = S(0.45);
+  /// The full builder (docs/spatial.md compares the two: binned SAH is the default).
+  TreeBuilder builder = TreeBuilder::binned_sah;
+  /// PLOC: each cluster looks for its nearest neighbour among this many on either side in
+  /// Morton order (1 to 64; larger is slower and closer to a full SAH search).
+  int ploc_radius = 8;
 
   /// The same rule for another length unit (1 for metres, 100 for centimetres, ...).
   GTreeConfig scaled(S length_unit) const noexcept {
@@ -190,7 +202,9 @@ private:
   void refit_upwards(std::uint32_t n) noexcept;
   void reinsert_dirty();
   void partial_rebuild();
-  std::uint32_t build(std::span<std::uint32_t> prims); ///< binned SAH over nodes; returns root
+  std::uint32_t build(std::span<std::uint32_t> prims); ///< config_.builder over nodes; the root
+  std::uint32_t build_sah(std::span<std::uint32_t> prims);
+  std::uint32_t build_ploc(std::span<std::uint32_t> prims);
 
   Config config_;
   std::vector<Node> nodes_;
