@@ -33,6 +33,12 @@
 //                                         the terrain's surface, half touching; items = queries.
 //   spatial_contacts/terrain1m/plume/<mesh|heightfield>  mesh_contacts of a 0.5 m box resting
 //                                         1 cm deep (internal edges corrected); items = queries.
+//   spatial_builder/<spheres100k|terrain1m>/<sah|ploc>  AabbTree::insert_all of the scene's
+//                                         boxes (spheres' boxes; triangles' tight boxes) with
+//                                         TreeBuilder binned_sah or ploc; items = boxes.
+//                                         Counters: area_ratio, height, and rays_per_second of
+//                                         the scene's rays through a WideBvh of that tree
+//                                         (timed once per run, outside the build's timing).
 //   spatial_ray/stress10k_after_updates/plume/x<W>  rays against the stress tree after 300
 //                                         frames of reinsert updates; counters compare it with a
 //                                         fresh rebuild of the same boxes.
@@ -711,6 +717,77 @@ void register_terrain_queries() {
   });
 }
 
+/// Builds a tree of `boxes` with `builder` per iteration; counters as at the top.
+template <class CastAll>
+void builder_benchmark(benchmark::State& st, std::vector<plume::Aabb3> const& boxes,
+                       plume::TreeConfig const& cfg, CastAll cast_all) {
+  AabbTree tree(cfg);
+  plume::bench::run_items(st, std::int64_t(boxes.size()), [&] {
+    tree.clear();
+    std::vector<ProxyId> const ids = tree.insert_all(boxes);
+    benchmark::DoNotOptimize(ids.data());
+  });
+  auto const stats = tree.stats();
+  st.counters["height"] = double(stats.height);
+  st.counters["area_ratio"] = double(stats.area_ratio);
+  plume::WideBvh const bvh(tree);
+  auto const t0 = std::chrono::steady_clock::now();
+  int rounds = 0;
+  double seconds = 0.0;
+  while (rounds < 3 || seconds < 0.2) { // at least 0.2 s of rays
+    cast_all(bvh);
+    ++rounds;
+    seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  st.counters["rays_per_second"] = double(R) * double(rounds) / seconds;
+}
+
+void register_builders() {
+  for (plume::TreeBuilder const builder :
+       {plume::TreeBuilder::binned_sah, plume::TreeBuilder::ploc}) {
+    std::string const name = builder == plume::TreeBuilder::ploc ? "ploc" : "sah";
+    plume::TreeConfig cfg;
+    cfg.builder = builder;
+    benchmark::RegisterBenchmark(("spatial_builder/spheres100k/" + name).c_str(),
+                                 [cfg](benchmark::State& st) {
+                                   sphere_scene const& s = spheres_scene();
+                                   std::vector<plume::Aabb3> boxes;
+                                   for (sphere const& k : s.spheres)
+                                     boxes.push_back(plume::Aabb3::from_sphere(k.centre, k.radius));
+                                   std::vector<TreeRayHit> hits(R);
+                                   builder_benchmark(
+                                       st, boxes, cfg, [&](plume::WideBvh const& bvh) {
+                                         plume_bench_cast_spheres(bvh, s, hits.data());
+                                       });
+                                   // The work of a ray, free of the machine's noise.
+                                   AabbTree tree(cfg);
+                                   tree.insert_all(boxes);
+                                   plume::WideBvh const bvh(tree);
+                                   std::size_t visits = 0;
+                                   for (std::size_t i = 0; i < R; ++i)
+                                     visits += nodes_visited(bvh, s, i);
+                                   st.counters["nodes_per_ray"] = double(visits) / double(R);
+                                 })
+        ->Unit(benchmark::kMillisecond);
+    plume::TreeConfig tight = cfg;
+    tight.margin = 0.0f;
+    tight.margin_fraction = 0.0f;
+    benchmark::RegisterBenchmark(
+        ("spatial_builder/terrain1m/" + name).c_str(),
+        [tight](benchmark::State& st) {
+          terrain_scene const& t = terrain();
+          std::vector<plume::Aabb3> boxes;
+          for (plume::Triangle const& tri : t.mesh.triangles())
+            boxes.push_back(tri.local_aabb());
+          std::vector<TreeRayHit> hits(R);
+          builder_benchmark(st, boxes, tight,
+                            [&](plume::WideBvh const& bvh) { t.cast(bvh, hits.data()); });
+        })
+        ->Unit(benchmark::kMillisecond)
+        ->Iterations(3);
+  }
+}
+
 void register_terrain() {
   plume::bench::for_each_f32_width([]<class T>() { register_terrain_rays<T>(); });
   register_terrain_queries();
@@ -948,6 +1025,7 @@ int main(int argc, char** argv) {
 #endif
   register_builds();
   register_terrain();
+  register_builders();
   register_stress();
   plume::bench::for_each_f32_width([]<class T>() { register_updated_rays<T>(); });
   return plume::bench::run_benchmarks(argc, argv);
