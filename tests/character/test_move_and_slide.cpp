@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <vector>
 
@@ -279,6 +280,43 @@ TEST_CASE("move and slide: seams between adjacent boxes do not bump the characte
     REQUIRE(p.y >= -skin);
   }
   CHECK(r.path.back().x == Approx(100 * 5 * dt).epsilon(1e-3));
+}
+
+TEST_CASE("move and slide: seams between mesh triangles and height-field cells do not bump "
+          "the character up",
+          "[character][move][mesh]") {
+  // A flat floor of 0.5 m cells, two triangles each (the diagonals run across the path too),
+  // as a TriangleMesh and as a HeightField, its top at y = -1 - skin.
+  constexpr std::uint32_t n = 80;
+  std::vector<float> const heights((n + 1) * (n + 1), 0.0f);
+  auto field = HeightField::build(n + 1, n + 1, heights, 0.5f, 0.5f);
+  REQUIRE(field.ok());
+  std::vector<Vec3> verts;
+  for (std::uint32_t z = 0; z <= n; ++z)
+    for (std::uint32_t x = 0; x <= n; ++x)
+      verts.push_back(field.field.vertex(x, z));
+  std::vector<std::uint32_t> idx;
+  for (std::uint32_t z = 0; z < n; ++z)
+    for (std::uint32_t x = 0; x < n; ++x) {
+      std::uint32_t const a = z * (n + 1) + x, b = a + 1, c = a + n + 1, d = c + 1;
+      idx.insert(idx.end(), {a, c, b, b, c, d});
+    }
+  auto mesh = TriangleMesh::build(verts, idx);
+  REQUIRE(mesh.ok());
+  Iso3 const at = Iso3::from_translation({-10.0f, -1.0f - skin, -20.0f});
+  for (BodyShape const& floor :
+       {BodyShape{MeshShape{std::make_shared<TriangleMesh const>(std::move(mesh.mesh))}},
+        BodyShape{HeightFieldShape{std::make_shared<HeightField const>(std::move(field.field))}}}) {
+    World w;
+    w.create_body({.type = BodyType::static_body, .pose = at, .shape = floor});
+    Walk const r = walk(w, {0, 0, 0}, Vec3{5, -2, 0.7f});
+    for (Vec3 const& p : r.path) {
+      REQUIRE(p.y <= skin);
+      REQUIRE(p.y >= -skin);
+    }
+    CHECK(r.path.back().x == Approx(100 * 5 * dt).epsilon(1e-3));
+    CHECK(r.path.back().z == Approx(100 * 0.7f * dt).epsilon(1e-3));
+  }
 }
 
 TEST_CASE("move and slide: a thin wall at high speed is never tunnelled", "[character][move]") {
