@@ -61,6 +61,57 @@ std::uint64_t fnv(std::uint64_t h, float x) {
 
 } // namespace
 
+bool World::give_mass(Body& b) {
+  MassProperties const mp = shape_mass(b.shape, b.density);
+  if (!(mp.mass > 0.0f) || !std::isfinite(mp.mass) || !finite(mp.center) || !mp.inertia.is_finite())
+    return false;
+  b.mass = mp.mass;
+  b.inv_mass = 1.0f / mp.mass;
+  b.local_center = mp.center;
+  b.inertia_local = mp.inertia;
+  auto const inv = mp.inertia.try_inverse();
+  b.inv_inertia_local = inv.valid && inv.value.is_finite() ? inv.value : Mat3::ZERO;
+  return true;
+}
+
+BodyError World::set_type(BodyId id, BodyType type) {
+  if (!is_alive(id)) return BodyError::bad_body;
+  std::uint32_t const i = id.index;
+  Body& b = bodies_[i];
+  if (b.type == type) return BodyError::none;
+  if (type == BodyType::dynamic) {
+    bool const triangles = std::visit(
+        [](auto const& s) { return is_triangle_shape_v<std::decay_t<decltype(s)>>; }, b.shape);
+    if (triangles) return BodyError::bad_shape;
+    Body probe = b;
+    if (!give_mass(probe)) return BodyError::zero_mass;
+    b = std::move(probe);
+  } else {
+    b.mass = b.inv_mass = 0.0f;
+    b.local_center = Vec3{};
+    b.inertia_local = b.inv_inertia_local = b.inv_inertia_world = Mat3::ZERO;
+  }
+  b.center = b.pose.transform_point(b.local_center);
+  // The contacts' colours were taken under the old type: release them; the next step finds
+  // the contacts again.
+  std::uint32_t const one[] = {i};
+  cache_.remove_bodies(one);
+  BodyType const was = b.type;
+  b.type = type;
+  if (type == BodyType::static_body) {
+    states_[i] = BodyState{}; // stopped
+    moving_bodies_.erase(std::remove(moving_bodies_.begin(), moving_bodies_.end(), i),
+                         moving_bodies_.end());
+    stale_statics_.push_back(i); // the next sync moves it to the static tree
+  } else if (was == BodyType::static_body) {
+    stale_statics_.erase(std::remove(stale_statics_.begin(), stale_statics_.end(), i),
+                         stale_statics_.end());
+    moving_bodies_.insert(std::lower_bound(moving_bodies_.begin(), moving_bodies_.end(), i), i);
+  }
+  trees_synced_ = false;
+  return BodyError::none;
+}
+
 World::World(WorldConfig const& cfg) : config_(cfg) {
   config_.manifold.prediction = cfg.speculative_distance;
   states_.push_back(BodyState{}); // the identity record static bodies share
@@ -97,18 +148,8 @@ CreateBodyResult World::create_body(BodyDef const& def) {
   b.gravity_scale = def.gravity_scale;
   b.layers = def.layers;
   b.sensor = def.sensor;
-  if (def.type == BodyType::dynamic) {
-    MassProperties const mp = shape_mass(def.shape, def.density);
-    if (!(mp.mass > 0.0f) || !std::isfinite(mp.mass) || !finite(mp.center) ||
-        !mp.inertia.is_finite())
-      return {{}, BodyError::zero_mass};
-    b.mass = mp.mass;
-    b.inv_mass = 1.0f / mp.mass;
-    b.local_center = mp.center;
-    b.inertia_local = mp.inertia;
-    auto const inv = mp.inertia.try_inverse();
-    b.inv_inertia_local = inv.valid && inv.value.is_finite() ? inv.value : Mat3::ZERO;
-  }
+  b.density = def.density;
+  if (def.type == BodyType::dynamic && !give_mass(b)) return {{}, BodyError::zero_mass};
   b.center = b.pose.transform_point(b.local_center);
 
   BodyState s;

@@ -147,11 +147,11 @@ int main() {
   // on a 3 x 3 height field settle on them.
   std::vector<Vec3> const floor_v{{-4, 0, -4}, {4, 0, -4}, {-4, 0, 4}, {4, 0, 4}};
   std::vector<std::uint32_t> const floor_i{0, 2, 1, 1, 2, 3};
-  auto built = TriangleMesh::build(floor_v, floor_i);
+  auto floor_built = TriangleMesh::build(floor_v, floor_i);
   std::vector<float> const heights(9, 0.0f);
   auto terrain = HeightField::build(3, 3, heights, 4.0f, 4.0f);
   World grounds;
-  auto level_mesh = std::make_shared<TriangleMesh const>(std::move(built.mesh));
+  auto level_mesh = std::make_shared<TriangleMesh const>(std::move(floor_built.mesh));
   grounds.create_body({.type = BodyType::static_body, .shape = MeshShape{level_mesh}});
   grounds.create_body(
       {.type = BodyType::static_body,
@@ -167,7 +167,7 @@ int main() {
           .id;
   for (int i = 0; i < 120; ++i)
     grounds.step(1.0f / 60.0f);
-  bool const ground_ok = built.ok() && terrain.ok() &&
+  bool const ground_ok = floor_built.ok() && terrain.ok() &&
                          std::abs(grounds.pose(on_mesh).translation.y - 0.5f) < 0.02f &&
                          std::abs(grounds.pose(on_field).translation.y - 0.5f) < 0.02f;
   std::printf("consumer: boxes on a mesh and a height field at y = %g, %g\n",

@@ -449,3 +449,78 @@ TEST_CASE("world: destroying and creating mid-run gives the same world at every 
   for_each_type<test::f32_wide_types>(
       [&]<class T>() { CHECK(run(std::type_identity<T>{}, BroadPhaseKind::bvh) == scalar); });
 }
+
+TEST_CASE("world: set_type turns bodies static, kinematic and dynamic", "[world][set-type]") {
+  World w;
+  BodyId const ground = add_ground(w);
+  auto const box_at = [&](Vec3 const& p, BodyType type, Vec3 const& v = {}) {
+    return w
+        .create_body({.type = type,
+                      .pose = Iso3::from_translation(p),
+                      .linear_velocity = v,
+                      .shape = Cuboid{Vec3::splat(0.5f)}})
+        .id;
+  };
+  BodyId const hanging = box_at({0, 3, 0}, BodyType::static_body);
+  BodyId const slider = box_at({5, 0.5f, 0}, BodyType::dynamic, {3, 0, 0});
+  BodyId const lift = box_at({-5, 2, 0}, BodyType::kinematic, {1, 0, 0});
+  BodyId const base = box_at({10, 0.5f, 0}, BodyType::static_body);
+  BodyId const on_base = box_at({10, 1.5f, 0}, BodyType::dynamic);
+  for (int s = 0; s < 30; ++s)
+    w.step(dt);
+  CHECK(w.pose(hanging).translation.y == 3.0f);
+  CHECK(w.pose(lift).translation.y == 2.0f);
+
+  // Failed changes leave the world as it was.
+  std::uint64_t const before = w.state_hash();
+  CHECK(w.set_type(ground, BodyType::dynamic) == BodyError::zero_mass); // a half-space
+  CHECK(w.set_type(BodyId{hanging.index, hanging.generation + 1}, BodyType::dynamic) ==
+        BodyError::bad_body);
+  CHECK(w.state_hash() == before);
+  CHECK(w.type(ground) == BodyType::static_body);
+
+  REQUIRE(w.set_type(hanging, BodyType::dynamic) == BodyError::none);
+  CHECK(w.mass(hanging) == Approx(1000.0f)); // 1 m^3 at the density it was created with
+  Vec3 const stopped_at = w.pose(slider).translation;
+  REQUIRE(w.set_type(slider, BodyType::static_body) == BodyError::none);
+  CHECK(w.linear_velocity(slider).length() == 0.0f);
+  REQUIRE(w.set_type(lift, BodyType::dynamic) == BodyError::none);
+  CHECK(w.linear_velocity(lift).x == 1.0f); // kept
+  REQUIRE(w.set_type(base, BodyType::kinematic) == BodyError::none);
+  CHECK(w.set_type(base, BodyType::kinematic) == BodyError::none); // no change
+  int on_base_events = 0;
+  for (int s = 0; s < 120; ++s) {
+    w.step(dt);
+    for (BodyPair const& p : w.events().contact_end)
+      on_base_events += p == BodyPair{base, on_base};
+    if (s == 60) REQUIRE(w.set_type(base, BodyType::static_body) == BodyError::none);
+  }
+  CHECK(w.pose(hanging).translation.y == Approx(0.5f).margin(0.02f)); // fell and rests
+  CHECK(w.pose(slider).translation.cmpeq(stopped_at).all());          // never moved again
+  CHECK(w.pose(lift).translation.y == Approx(0.5f).margin(0.02f));
+  CHECK(w.pose(lift).translation.x > -5.0f + 0.5f); // carried on at its speed while falling
+  CHECK(w.pose(on_base).translation.y == Approx(1.5f).margin(0.02f)); // still on the base
+  CHECK(on_base_events == 0);                                         // it never stopped touching
+  // Queries see the new types' trees.
+  auto const hit = w.ray_cast({{0, 5, 0}, {0, -1, 0}}, 10.0f);
+  REQUIRE(hit);
+  CHECK(hit->body == hanging);
+}
+
+TEST_CASE("world: set_type keeps every width stepping the same world", "[world][set-type]") {
+  auto const run = [&]<class T>(std::type_identity<T>) {
+    World w;
+    add_ground(w);
+    std::vector<BodyId> const boxes = add_box_pyramid(w, 4);
+    for (int s = 0; s < 40; ++s) {
+      if (s == 10) w.set_type(boxes[3], BodyType::static_body);
+      if (s == 20) w.set_type(boxes[3], BodyType::dynamic);
+      if (s == 25) w.set_type(boxes[0], BodyType::kinematic);
+      w.template step_with<T>(dt);
+    }
+    return w.state_hash();
+  };
+  std::uint64_t const scalar = run(std::type_identity<float>{});
+  for_each_type<test::f32_wide_types>(
+      [&]<class T>() { CHECK(run(std::type_identity<T>{}) == scalar); });
+}

@@ -25,22 +25,25 @@
 // at a time, then the colours in order.
 //
 // Meshes: a static or kinematic body may have a MeshShape (a shared TriangleMesh: level
-// geometry) or a HeightFieldShape (a shared HeightField: terrain). Dynamic bodies collide with it
-// triangle by triangle, with internal edges corrected so that a body sliding across two coplanar
-// triangles meets no ghost bump, and one contact per group of triangles with one normal
-// (spatial/mesh_queries.hpp): a pair with a mesh may hold up to max_mesh_manifolds contacts. Every
-// query sees meshes.
+// geometry) or a HeightFieldShape (a shared HeightField: terrain). Dynamic bodies collide with
+// it triangle by triangle, with internal edges corrected so that a body sliding across two
+// coplanar triangles meets no ghost bump, and one contact per group of triangles with one
+// normal (spatial/mesh_queries.hpp): a pair with a mesh may hold up to max_mesh_manifolds
+// contacts. Every query sees meshes. Bodies change type with set_type().
 //
 // Bad input: create_body() rejects a non-finite pose, velocity or material, a dynamic body
 // whose shape and density give no positive finite mass, and a mesh or height field that is
-// empty or on a dynamic body (BodyError; the world is unchanged). Setters reject non-finite values
-// the same way. A dynamic body whose state turns non-finite during a step (absurd velocities) is
-// put back where the step began, stopped and frozen: it then acts as a static body, and
-// frozen_bodies() reports it. step() ignores dt <= 0 or non-finite. Accessors taking a BodyId throw
-// std::out_of_range for an id that names no live body (never created, or destroyed: ids carry a
-// generation); setters and destroy_body() return BodyError::bad_body instead. Out of scope for this
-// version (named, not stubbed): sleeping (every dynamic body is simulated each step; a per-body
-// flag would slot in where frozen bodies are skipped) and compound bodies (one shape per body).
+// empty or on a dynamic body (BodyError; the world is unchanged). Setters reject non-finite
+// values the same way. A dynamic body whose state turns non-finite during a step (absurd
+// velocities) is put back where the step began, stopped and frozen: it then acts as a static
+// body, and frozen_bodies() reports it. step() ignores dt <= 0 or non-finite. Accessors taking
+// a BodyId throw std::out_of_range for an id that names no live body (never created, or
+// destroyed: ids carry a generation); setters and destroy_body() return BodyError::bad_body
+// instead.
+//
+// Out of scope for this version (named, not stubbed): sleeping (every dynamic body is
+// simulated each step; a per-body flag would slot in where frozen bodies are skipped) and
+// compound bodies (one shape per body).
 #pragma once
 
 #include <plume/collision/convex_hull.hpp>
@@ -328,6 +331,14 @@ public:
   BodyError set_pose(BodyId id, Iso3 const& pose);
   BodyError set_velocity(BodyId id, Vec3 const& linear, Vec3 const& angular);
 
+  /// Changes the body's type, keeping its pose, shape, material, layers and (unless it becomes
+  /// static) its velocities. Becoming dynamic computes the mass from the shape and the
+  /// density it was created with (zero_mass, or bad_shape for a mesh or height field, as
+  /// create_body; the world is then unchanged); becoming static stops it. Its contacts are
+  /// found again by the next step under the new type's rules (no warm start that step); the
+  /// events of that step report only pairs that stopped touching. bad_body for a stale id.
+  BodyError set_type(BodyId id, BodyType type);
+
   CollisionLayers layers(BodyId id) const { return body(id).layers; }
   /// New layers, effective from the next step (contacts that the layers now forbid end then).
   BodyError set_layers(BodyId id, CollisionLayers const& layers);
@@ -418,6 +429,7 @@ private:
     Vec3 local_center{};
     Vec3 center{};
     float mass = 0.0f, inv_mass = 0.0f;
+    float density = 0.0f; ///< as created: set_type() makes a dynamic body's mass from it
     Mat3 inertia_local = Mat3::ZERO, inv_inertia_local = Mat3::ZERO;
     Mat3 inv_inertia_world = Mat3::ZERO;
     BodyShape shape;
@@ -433,6 +445,9 @@ private:
 
   /// The live body `id` names; std::out_of_range otherwise.
   Body const& body(BodyId id) const;
+  /// Sets b's mass, centre of mass and inertia from its shape and density; false (b
+  /// unchanged) when they give no positive finite mass.
+  static bool give_mass(Body& b);
 
   // The stages of a step, in order (solver/world/step.cpp).
   void find_pairs();
