@@ -20,7 +20,7 @@ char const* to_string(HeightFieldError e) noexcept {
   case HeightFieldError::non_finite_height:
     return "non-finite height";
   case HeightFieldError::bad_cell_size:
-    return "cell size not positive and finite";
+    return "cell size not positive and finite, too large for the field's extent, or too small";
   case HeightFieldError::too_many_cells:
     return "too many cells (2^29 or more)";
   }
@@ -41,7 +41,10 @@ HeightFieldBuildResult HeightField::build(std::uint32_t samples_x, std::uint32_t
   if (cells >= (std::uint64_t(1) << 29)) return fail(HeightFieldError::too_many_cells, 0);
   if (heights.size() != std::size_t(samples_x) * samples_z)
     return fail(HeightFieldError::size_mismatch, heights.size());
-  if (!(cell_x > 0.0f) || !(cell_z > 0.0f) || !std::isfinite(cell_x) || !std::isfinite(cell_z))
+  if (!(cell_x > 0.0f) || !(cell_z > 0.0f) || !std::isfinite(cell_x) || !std::isfinite(cell_z) ||
+      !std::isfinite(float(samples_x - 1) * cell_x) ||
+      !std::isfinite(float(samples_z - 1) * cell_z) ||
+      !(double(cell_x) * double(cell_z) >= 1.1e-19))
     return fail(HeightFieldError::bad_cell_size, 0);
   for (std::size_t i = 0; i < heights.size(); ++i)
     if (!std::isfinite(heights[i])) return fail(HeightFieldError::non_finite_height, i);
@@ -148,14 +151,6 @@ Aabb3 HeightField::block_box(std::size_t l, std::uint32_t bx, std::uint32_t bz) 
           {float(x1) * sx_ + pad_, lv.hi[i] + pad_, float(z1) * sz_ + pad_}};
 }
 
-namespace {
-
-bool finite(Vec3 const& v) noexcept {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
-} // namespace
-
 float detail::ray_box_entry(Ray3 const& ray, Aabb3 const& b, float limit) noexcept {
   auto const sx = detail::slab_interval(ray.origin.x, ray.dir.x, b.min.x, b.max.x);
   auto const sy = detail::slab_interval(ray.origin.y, ray.dir.y, b.min.y, b.max.y);
@@ -166,31 +161,13 @@ float detail::ray_box_entry(Ray3 const& ray, Aabb3 const& b, float limit) noexce
 }
 
 MeshRayHit HeightField::ray_cast(Ray3 const& ray, float max_toi) const {
-  MeshRayHit best;
-  if (!(max_toi >= 0.0f)) return best;
-  // As TriangleMesh::ray_cast_with: blocks are tight (up to pad_), so a triangle's rounded
-  // toi can fall a few ulps before its block's rounded entry; the walk prunes beyond
-  // best + slack only, which makes the result the least (toi, index) over all triangles.
-  Vec3 const ao = ray.origin.abs(), ad = ray.dir.abs();
-  float const dmax = std::max(std::max(ad.x, ad.y), ad.z);
-  float const scale = (std::max(std::max(ao.x, ao.y), ao.z) + 1.0f) / dmax;
-  float limit = max_toi;
-  walk_ray(ray, Vec3{}, max_toi, [&](std::uint32_t cell, float, float bound) {
-    for (std::uint32_t t = 2 * cell; t < 2 * cell + 2; ++t) {
-      RayHit const h = ray_cast_local(triangle(t), ray, limit);
-      if (h.hit && (h.toi < limit || t < best.triangle)) {
-        best.triangle = t;
-        best.toi = h.toi;
-        best.normal = h.normal;
-        best.back = h.feature == 1.0f;
-        limit = h.toi;
-        float const next = limit + (limit + scale) * 0x1p-12f;
-        bound = next < max_toi ? next : max_toi;
-      }
-    }
-    return bound;
+  if (!(max_toi >= 0.0f)) return {};
+  detail::NearestTriangleHit nearest(ray, max_toi); // blocks are tight (up to pad_)
+  walk_ray(ray, Vec3{}, max_toi, [&](std::uint32_t cell, float, float) {
+    nearest.test(triangle(2 * cell), 2 * cell);
+    return nearest.test(triangle(2 * cell + 1), 2 * cell + 1);
   });
-  return best;
+  return nearest.best;
 }
 
 MeshRayHit HeightField::ray_cast(Iso3 const& pose, Ray3 const& ray, float max_toi) const {
@@ -202,12 +179,8 @@ MeshRayHit HeightField::ray_cast(Iso3 const& pose, Ray3 const& ray, float max_to
 }
 
 MeshClosestPoint HeightField::closest_point(Vec3 const& p, float max_distance) const {
-  MeshClosestPoint best;
-  if (levels_.empty() || !finite(p) || !(max_distance >= 0.0f)) return best;
-  float best_d2 = max_distance * max_distance;
-  if (std::isinf(max_distance)) best_d2 = std::numeric_limits<float>::infinity();
-  // As TriangleMesh::closest_point: prune only beyond a relative slack.
-  auto const bound = [&] { return best_d2 + best_d2 * 0x1p-10f; };
+  if (levels_.empty() || !bool(p.is_finite()) || !(max_distance >= 0.0f)) return {};
+  detail::NearestTrianglePoint nearest(p, max_distance); // prunes beyond nearest.bound()
   auto const box_d2 = [&](Aabb3 const& b) {
     float const dx = std::max(std::max(b.min.x - p.x, p.x - b.max.x), 0.0f);
     float const dy = std::max(std::max(b.min.y - p.y, p.y - b.max.y), 0.0f);
@@ -222,24 +195,17 @@ MeshClosestPoint HeightField::closest_point(Vec3 const& p, float max_distance) c
   while (!stack.empty()) {
     entry const e = stack.back();
     stack.pop_back();
-    if (e.d2 > bound()) continue;
+    if (e.d2 > nearest.bound()) continue;
     if (e.level == 0) {
       std::uint32_t const c = e.bz * cells_x() + e.bx;
-      for (std::uint32_t t = 2 * c; t < 2 * c + 2; ++t) {
-        Vec3 const q = closest_point_on_triangle(triangle(t), p);
-        float const d2 = (p - q).length_squared();
-        if (d2 < best_d2 || (d2 == best_d2 && t < best.triangle)) {
-          best_d2 = d2;
-          best.triangle = t;
-          best.point = q;
-        }
-      }
+      for (std::uint32_t t = 2 * c; t < 2 * c + 2; ++t)
+        nearest.test(triangle(t), t);
       continue;
     }
     Level const& below = levels_[e.level - 1];
     std::array<entry, 4> met;
     std::size_t n = 0;
-    float const lim = bound();
+    float const lim = nearest.bound();
     for (std::uint32_t j = 0; j < 2; ++j)
       for (std::uint32_t i = 0; i < 2; ++i) {
         std::uint32_t const x = 2 * e.bx + i, z = 2 * e.bz + j;
@@ -255,8 +221,7 @@ MeshClosestPoint HeightField::closest_point(Vec3 const& p, float max_distance) c
     for (std::size_t k = 0; k < n; ++k)
       stack.push_back(met[k]);
   }
-  if (best.found()) best.distance = std::sqrt(best_d2);
-  return best;
+  return nearest.result();
 }
 
 MeshClosestPoint HeightField::closest_point(Iso3 const& pose, Vec3 const& p,

@@ -210,13 +210,11 @@ Vec3 closest_point_on_triangle(Triangle const& t, Vec3 const& p) noexcept {
 }
 
 MeshClosestPoint TriangleMesh::closest_point(Vec3 const& p, float max_distance) const {
-  MeshClosestPoint best;
-  if (bvh_.empty() || !finite(p) || !(max_distance >= 0.0f)) return best;
+  if (bvh_.empty() || !finite(p) || !(max_distance >= 0.0f)) return {};
   using W = WideBvh;
   using T = f32xN;
   constexpr std::size_t K = W::arity, L = W::lanes;
-  float best_d2 = max_distance * max_distance;
-  if (std::isinf(max_distance)) best_d2 = std::numeric_limits<float>::infinity();
+  detail::NearestTrianglePoint nearest(p, max_distance);
   GVec3<T> const q = detail::splat3<T>(p);
   struct entry {
     std::uint32_t ref;
@@ -225,20 +223,13 @@ MeshClosestPoint TriangleMesh::closest_point(Vec3 const& p, float max_distance) 
   detail::TraversalStack<entry> stack;
   stack.push_back({0, 0.0f});
   // Boxes are tight and their distance rounds differently from a triangle's: prune only
-  // beyond a relative slack, so that ties and near-ties are always decided by the triangles.
-  auto const bound = [&] { return best_d2 + best_d2 * 0x1p-10f; };
+  // beyond nearest.bound(), so that ties and near-ties are always decided by the triangles.
   while (!stack.empty()) {
     entry const e = stack.pop_back();
-    if (e.d2 > bound()) continue;
+    if (e.d2 > nearest.bound()) continue;
     if (e.ref & W::leaf_bit) {
       std::uint32_t const t = e.ref & ~W::leaf_bit;
-      Vec3 const c = closest_point_on_triangle(tris_[t], p);
-      float const d2 = (p - c).length_squared();
-      if (d2 < best_d2 || (d2 == best_d2 && t < best.triangle)) {
-        best_d2 = d2;
-        best.triangle = t;
-        best.point = c;
-      }
+      nearest.test(tris_[t], t);
       continue;
     }
     auto const& node = bvh_.nodes()[e.ref];
@@ -254,7 +245,7 @@ MeshClosestPoint TriangleMesh::closest_point(Vec3 const& p, float max_distance) 
     // Nearest child popped first (pushed last); empty slots have infinite distance.
     std::array<entry, K> met;
     std::size_t n = 0;
-    float const lim = bound();
+    float const lim = nearest.bound();
     for (std::size_t i = 0; i < K; ++i) {
       if (node.child[i] == W::empty_child || !(d2s[i] <= lim)) continue;
       entry const c{node.child[i], d2s[i]};
@@ -266,8 +257,7 @@ MeshClosestPoint TriangleMesh::closest_point(Vec3 const& p, float max_distance) 
     for (std::size_t i = 0; i < n; ++i)
       stack.push_back(met[i]);
   }
-  if (best.found()) best.distance = std::sqrt(best_d2);
-  return best;
+  return nearest.result();
 }
 
 MeshClosestPoint TriangleMesh::closest_point(Iso3 const& pose, Vec3 const& p,

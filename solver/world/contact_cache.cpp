@@ -62,33 +62,7 @@ void ContactCache::update(std::span<PairManifold const> found, float match_dista
   std::vector<Contact> next;
   next.reserve(found.size());
   std::vector<char> kept(contacts_.size(), 0);
-  std::size_t io = 0; // cursor into the previous contacts, sorted like `found`
-  for (std::size_t k = 0; k < found.size(); ++k) {
-    PairManifold const& f = found[k];
-    while (io < contacts_.size() && key_of(contacts_[io]) < f.pair)
-      ++io;
-    // The previous contacts of this pair: contacts_[io, end).
-    std::size_t end = io;
-    while (end < contacts_.size() && key_of(contacts_[end]) == f.pair)
-      ++end;
-    if (f.manifold.count == 0) continue;
-    Contact const* prev = nullptr;
-    bool const several = end - io > 1 || (k + 1 < found.size() && found[k + 1].pair == f.pair) ||
-                         (k > 0 && found[k - 1].pair == f.pair);
-    if (!several) {
-      prev = io < end ? &contacts_[io] : nullptr;
-    } else {
-      // A pair with several manifolds (a mesh): each takes the unclaimed previous contact
-      // whose normal is closest to its own, within 60 degrees.
-      float best = 0.5f;
-      for (std::size_t j = io; j < end; ++j) {
-        float const d = contacts_[j].manifold.normal.dot(f.manifold.normal);
-        if (!kept[j] && d > best) {
-          best = d;
-          prev = &contacts_[j];
-        }
-      }
-    }
+  auto const make = [&](PairManifold const& f, Contact const* prev) {
     Contact c;
     c.body_a = body_pair_first(f.pair);
     c.body_b = body_pair_second(f.pair);
@@ -108,6 +82,54 @@ void ContactCache::update(std::span<PairManifold const> found, float match_dista
       c.dynamic_b = f.dynamic_b;
     }
     next.push_back(c);
+  };
+  struct match {
+    float dot;
+    std::uint32_t now, before; ///< index into the pair's run of `found`, of contacts_
+  };
+  std::vector<match> matches;
+  std::vector<Contact const*> prev_of;
+  std::size_t io = 0; // cursor into the previous contacts, sorted like `found`
+  for (std::size_t k = 0; k < found.size();) {
+    std::uint64_t const pair = found[k].pair;
+    std::size_t kend = k; // this step's manifolds of the pair: found[k, kend)
+    while (kend < found.size() && found[kend].pair == pair)
+      ++kend;
+    while (io < contacts_.size() && key_of(contacts_[io]) < pair)
+      ++io;
+    std::size_t end = io; // the previous contacts of the pair: contacts_[io, end)
+    while (end < contacts_.size() && key_of(contacts_[end]) == pair)
+      ++end;
+    if (kend - k == 1 && end - io <= 1) {
+      // One manifold now and at most one before: it takes the previous contact whatever
+      // the normals.
+      if (found[k].manifold.count > 0) make(found[k], io < end ? &contacts_[io] : nullptr);
+    } else {
+      // Several (a mesh): the pairs of a new manifold and a previous contact within 60
+      // degrees, most aligned first (ties: earlier manifold, then earlier contact), each
+      // taken when both are still free.
+      matches.clear();
+      for (std::size_t n = k; n < kend; ++n)
+        if (found[n].manifold.count > 0)
+          for (std::size_t j = io; j < end; ++j)
+            if (float const d = contacts_[j].manifold.normal.dot(found[n].manifold.normal);
+                d > 0.5f)
+              matches.push_back({d, std::uint32_t(n - k), std::uint32_t(j)});
+      std::sort(matches.begin(), matches.end(), [](match const& a, match const& b) {
+        return a.dot != b.dot ? a.dot > b.dot
+                              : (a.now != b.now ? a.now < b.now : a.before < b.before);
+      });
+      prev_of.assign(kend - k, nullptr);
+      std::vector<char> taken(end - io, 0);
+      for (match const& m : matches)
+        if (prev_of[m.now] == nullptr && !taken[m.before - io]) {
+          prev_of[m.now] = &contacts_[m.before];
+          taken[m.before - io] = 1;
+        }
+      for (std::size_t n = k; n < kend; ++n)
+        if (found[n].manifold.count > 0) make(found[n], prev_of[n - k]);
+    }
+    k = kend;
   }
   for (std::size_t i = 0; i < contacts_.size(); ++i)
     if (!kept[i]) {

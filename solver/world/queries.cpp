@@ -185,7 +185,8 @@ std::optional<WorldShapeHit> World::shape_cast(BodyShape const& shape, Iso3 cons
                                                Vec3 const& motion, ShapeCastConfig const& cfg,
                                                QueryFilter const& filter) const {
   if (!pose.is_finite() || !bool(motion.is_finite()) || !(cfg.max_toi >= 0.0f) ||
-      !std::isfinite(cfg.max_toi) || !(cfg.target_distance >= 0.0f))
+      !std::isfinite(cfg.max_toi) || !(cfg.target_distance >= 0.0f) ||
+      !std::isfinite(cfg.target_distance))
     return {};
   return with_convex(shape, [&](auto const& q, bool convex) -> std::optional<WorldShapeHit> {
     if (!convex) return {};

@@ -78,7 +78,7 @@ BodyError World::set_type(BodyId id, BodyType type) {
   if (!is_alive(id)) return BodyError::bad_body;
   std::uint32_t const i = id.index;
   Body& b = bodies_[i];
-  if (b.type == type) return BodyError::none;
+  if (b.type == type && !b.frozen) return BodyError::none;
   if (type == BodyType::dynamic) {
     bool const triangles = std::visit(
         [](auto const& s) { return is_triangle_shape_v<std::decay_t<decltype(s)>>; }, b.shape);
@@ -98,6 +98,10 @@ BodyError World::set_type(BodyId id, BodyType type) {
   cache_.remove_bodies(one);
   BodyType const was = b.type;
   b.type = type;
+  if (b.frozen) { // a frozen body set to any type starts afresh, at rest where it stopped
+    b.frozen = false;
+    states_[i] = BodyState{};
+  }
   if (type == BodyType::static_body) {
     states_[i] = BodyState{}; // stopped
     moving_bodies_.erase(std::remove(moving_bodies_.begin(), moving_bodies_.end(), i),

@@ -18,6 +18,7 @@
 #include <bit>
 #include <cinttypes>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -471,7 +472,19 @@ std::uint64_t tree_battery() {
     bulk.push_back(box(30.0));
   tree.insert_all(bulk);
   tree.optimize();
+  // The other builder too: PLOC over the same leaves.
+  TreeConfig ploc;
+  ploc.builder = TreeBuilder::ploc;
+  AabbTree other(ploc);
+  std::vector<Aabb3> leaves;
+  for (ProxyId id : tree.proxy_ids())
+    leaves.push_back(tree.tight_box(id));
+  other.insert_all(leaves);
   fnv h;
+  for (auto const& node : other.nodes()) {
+    h.add(std::bit_cast<float>(node.left));
+    h.add(node.box.min.x + node.box.max.y - node.box.min.z);
+  }
   for (auto const& node : tree.nodes()) {
     h.add(float(node.height));
     h.add(std::bit_cast<float>(node.left));
@@ -518,15 +531,21 @@ std::uint64_t world_mesh_battery() {
       std::uint32_t const a = z * (n + 1) + x, b = a + 1, c = a + n + 1, d = c + 1;
       idx.insert(idx.end(), {a, c, b, b, c, d});
     }
+  auto mesh = TriangleMesh::build(verts, idx);
+  auto field = HeightField::build(n + 1, n + 1, heights, 1.0f, 1.0f);
+  if (!mesh.ok() || !field.ok()) {
+    std::printf("world_mesh: the terrain did not build\n");
+    std::exit(1);
+  }
   World w;
-  w.create_body({.type = BodyType::static_body,
-                 .pose = Iso3::from_translation({-12.0f, 0.0f, -6.0f}),
-                 .shape = MeshShape{std::make_shared<TriangleMesh const>(
-                     TriangleMesh::build(verts, idx).mesh)}});
-  w.create_body({.type = BodyType::static_body,
-                 .pose = Iso3{Quat::from_axis_angle(Vec3::Y, 0.3f), {1.0f, 0.0f, -6.0f}},
-                 .shape = HeightFieldShape{std::make_shared<HeightField const>(
-                     HeightField::build(n + 1, n + 1, heights, 1.0f, 1.0f).field)}});
+  w.create_body(
+      {.type = BodyType::static_body,
+       .pose = Iso3::from_translation({-12.0f, 0.0f, -6.0f}),
+       .shape = MeshShape{std::make_shared<TriangleMesh const>(std::move(mesh.mesh))}});
+  w.create_body(
+      {.type = BodyType::static_body,
+       .pose = Iso3{Quat::from_axis_angle(Vec3::Y, 0.3f), {1.0f, 0.0f, -6.0f}},
+       .shape = HeightFieldShape{std::make_shared<HeightField const>(std::move(field.field))}});
   stream st;
   for (int i = 0; i < 16; ++i) {
     BodyDef def;
@@ -538,8 +557,17 @@ std::uint64_t world_mesh_battery() {
     def.linear_velocity = st.vec3<float>(1);
     w.create_body(def);
   }
-  for (int s = 0; s < 120; ++s)
+  std::size_t most = 0; // the scene must hold a pair with several contacts
+  for (int s = 0; s < 120; ++s) {
     w.template step_with<T>(1.0f / 60.0f);
+    std::map<std::uint64_t, std::size_t> per_pair;
+    for (Contact const& c : w.contacts())
+      most = std::max(most, ++per_pair[body_pair_key(c.body_a, c.body_b)]);
+  }
+  if (most < 2) {
+    std::printf("world_mesh: no pair ever had two contacts\n");
+    std::exit(1);
+  }
   std::uint64_t h = w.state_hash();
   auto const mix = [&](float x) { h = (h ^ std::bit_cast<std::uint32_t>(x)) * 1099511628211ull; };
   for (int k = 0; k < 16; ++k) {

@@ -185,6 +185,11 @@ TEST_CASE("height field: bad input", "[spatial][heightfield][bad-input]") {
   CHECK(HeightField::build(4, 3, h, qnan, 1.0f).error == HeightFieldError::bad_cell_size);
   CHECK(HeightField::build(1u << 15, 1u << 15, h, 1.0f, 1.0f).error ==
         HeightFieldError::too_many_cells);
+  // Found in review: an extent that overflows (inf vertices), and cells so small that a
+  // TriangleMesh of the same vertices would drop their triangles as degenerate.
+  CHECK(HeightField::build(4, 3, h, 2e38f, 1.0f).error == HeightFieldError::bad_cell_size);
+  CHECK(HeightField::build(4, 3, h, 1e-10f, 1e-10f).error == HeightFieldError::bad_cell_size);
+  CHECK(HeightField::build(4, 3, h, 1e-9f, 1e-9f).ok());
   h[7] = qnan;
   auto const r = HeightField::build(4, 3, h, 1.0f, 1.0f);
   CHECK(r.error == HeightFieldError::non_finite_height);
@@ -206,6 +211,16 @@ TEST_CASE("height field: bad input", "[spatial][heightfield][bad-input]") {
   CHECK_FALSE(f.closest_point({qnan, 0.0f, 0.0f}, 1.0f).found());
   CHECK_FALSE(f.closest_point({1.0f, 0.0f, 1.0f}, -1.0f).found());
   CHECK(f.closest_point({1.0f, 0.5f, 1.0f}, 1.0f).distance == 0.5f);
+  // A ray that misses, with an infinite reach, visits no cell (found in review: entries of
+  // +infinity, a miss, passed the test against an infinite max_toi, and every cell was cast).
+  int cells = 0;
+  auto const count = [&](std::uint32_t, float) { return ++cells, inf; };
+  f.swept_query({{1.5f, 1.0f, 1.5f}, {0.0f, 1.0f, 0.0f}}, Vec3{}, inf, count);   // up, away
+  f.swept_query({{1.5f, 5.0f, 1.5f}, {1.0f, 0.0f, 0.0f}}, Vec3{}, inf, count);   // level, above
+  f.swept_query({{-5.0f, 0.0f, 1.5f}, {-1.0f, 0.0f, 0.0f}}, Vec3{}, inf, count); // away
+  CHECK(cells == 0);
+  f.swept_query({{1.5f, 1.0f, 1.5f}, {0.0f, -1.0f, 0.0f}}, Vec3{}, inf, count); // down: a cell
+  CHECK(cells == 2); // the cell's two triangles
   HeightField const none;
   CHECK_FALSE(none.ray_cast(down, 2.0f).hit());
   CHECK_FALSE(none.closest_point({1.0f, 0.5f, 1.0f}, 1.0f).found());

@@ -12,6 +12,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -249,6 +250,36 @@ TEST_CASE("mesh_contacts: a group keeps its deepest points however many triangle
   CHECK(c.manifolds[0].manifold.count == 4);
 }
 
+TEST_CASE("mesh_contacts: a large box resting on many small triangles keeps points across its "
+          "footprint",
+          "[spatial][mesh]") {
+  // 3 m box flat on a grid of 0.2 m cells: about 450 triangles and 1,350 candidate points in
+  // one group. Found in review: keeping only the first 64 candidates left all four points on
+  // the cells of one edge of the box.
+  TriangleMesh const m = make(grid(20, 0.2f, [](float, float) { return 0.0f; }));
+  Cuboid const box{Vec3{1.5f, 0.5f, 1.5f}};
+  for (float const yaw : {0.0f, 0.3f}) {
+    Iso3 const local{Quat::from_axis_angle(Vec3::Y, yaw), {2.0f, 0.5f - 0.005f, 2.0f}};
+    MeshContacts const c = mesh_contacts(m, mesh_pose, box, mesh_pose * local);
+    REQUIRE(c.count == 1);
+    Manifold const& mf = c.manifolds[0].manifold;
+    REQUIRE(mf.count == 4);
+    // The quadrilateral of the four points (in the floor's plane) covers most of the 9 m^2
+    // footprint.
+    std::array<Vec3, 4> p;
+    for (std::size_t k = 0; k < 4; ++k)
+      p[k] = mesh_pose.inverse_transform_point(mf.points[k].point_a);
+    float best = 0.0f; // the largest of the quadrilateral's areas over the orders of its points
+    for (auto const& o : {std::array<int, 4>{0, 1, 2, 3}, std::array<int, 4>{0, 2, 1, 3},
+                          std::array<int, 4>{0, 1, 3, 2}}) {
+      Vec3 const d1 = p[std::size_t(o[2])] - p[std::size_t(o[0])];
+      Vec3 const d2 = p[std::size_t(o[3])] - p[std::size_t(o[1])];
+      best = std::max(best, 0.5f * std::abs(d1.z * d2.x - d1.x * d2.z));
+    }
+    CHECK(best > 0.8f * 9.0f);
+  }
+}
+
 TEST_CASE("mesh_shape_cast equals the least cast over every triangle", "[spatial][mesh]") {
   TriangleMesh const m = make(grid(16, 0.5f, terrain_height));
   std::mt19937 g(13);
@@ -297,11 +328,18 @@ TEST_CASE("mesh_shape_cast onto a flat grid, where many triangles tie, equals br
   for (int k = 0; k < 400; ++k) {
     float const x = std::round(1.0f + 6.0f * u(g)) + (k % 2 ? 0.0f : 0.5f * u(g));
     float const z = std::round(1.0f + 6.0f * u(g));
-    Iso3 const pose = mesh_pose * Iso3{Quat::from_axis_angle(Vec3::Y, 6.28f * u(g)),
-                                       Vec3{x, 1.0f + u(g), z}};
-    Vec3 const motion = mesh_pose.transform_vector(Vec3{0.01f * (u(g) - 0.5f), -3.0f, 0.0f});
+    Iso3 const pose =
+        mesh_pose * Iso3{Quat::from_axis_angle(Vec3::Y, 6.28f * u(g)), Vec3{x, 1.0f + u(g), z}};
+    // Straight down, or glancing (1 to 5 degrees below the horizontal, across the seams),
+    // and every fifth with max_toi just past the contact.
+    float const glance = 0.017f + 0.07f * u(g);
+    Vec3 const local_motion =
+        k % 2 ? Vec3{0.01f * (u(g) - 0.5f), -3.0f, 0.0f}
+              : Vec3{3.0f * std::cos(0.7f * u(g)), -3.0f * glance, 3.0f * std::sin(0.7f * u(g))};
+    Vec3 const motion = mesh_pose.transform_vector(local_motion);
     ShapeCastConfig cfg;
     cfg.target_distance = k % 3 == 0 ? 0.02f : 0.0f;
+    if (k % 2 == 0) cfg.max_toi = 2.0f; // glancing: the fall takes longer than one motion
     auto const check = [&](auto const& shape) {
       MeshShapeHit const got = mesh_shape_cast(m, mesh_pose, shape, pose, motion, cfg);
       MeshShapeHit want;
@@ -312,7 +350,12 @@ TEST_CASE("mesh_shape_cast onto a flat grid, where many triangles tie, equals br
           want.toi = c.toi;
         }
       }
-      REQUIRE(want.hit());
+      if (k % 5 == 0 && want.hit()) { // again, with max_toi just past the contact
+        ShapeCastConfig tight = cfg;
+        tight.max_toi = want.toi * 1.0001f;
+        MeshShapeHit const near = mesh_shape_cast(m, mesh_pose, shape, pose, motion, tight);
+        REQUIRE(near.triangle == want.triangle);
+      }
       REQUIRE(got.triangle == want.triangle);
       REQUIRE(same_bits(got.toi, want.toi));
       differ += got.toi != want.toi;

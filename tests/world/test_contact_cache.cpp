@@ -132,6 +132,20 @@ TEST_CASE("contact cache: a pair with several manifolds matches each by its norm
   REQUIRE(cache.contacts().size() == 3);
   CHECK(cache.contacts()[0].impulses.normal[0] == 1.0f);
   CHECK(cache.contacts()[1].impulses.normal[0] == 0.0f);
+  // One contact before (up), two manifolds now, the steeper one first: the up manifold, not
+  // the first in line, takes the contact's impulses (found in review: matching in arrival
+  // order gave them to the slope).
+  std::vector<PairManifold> up1{found(0, 1, Vec3::Y), found(1, 2, Vec3::Y)};
+  ContactCache fresh;
+  fresh.reserve_bodies(3);
+  fresh.update(up1, 0.01f);
+  fresh.contacts()[0].impulses.normal[0] = 9.0f;
+  Vec3 const slope = Vec3{0.6f, 0.8f, 0.0f}; // 37 degrees from up: within the 60 degrees
+  std::vector<PairManifold> two{found(0, 1, slope), found(0, 1, Vec3::Y), found(1, 2, Vec3::Y)};
+  fresh.update(two, 0.01f);
+  REQUIRE(fresh.contacts().size() == 3);
+  CHECK(fresh.contacts()[0].impulses.normal[0] == 0.0f);
+  CHECK(fresh.contacts()[1].impulses.normal[0] == 9.0f);
   // A pair with one manifold before and now matches it whatever the normal (as before meshes).
   std::vector<PairManifold> step4{found(1, 2, Vec3::X)};
   cache.contacts()[2].impulses.normal[0] = 5.0f;

@@ -478,6 +478,11 @@ TEST_CASE("world: set_type turns bodies static, kinematic and dynamic", "[world]
         BodyError::bad_body);
   CHECK(w.state_hash() == before);
   CHECK(w.type(ground) == BodyType::static_body);
+  CHECK(w.mass(ground) == 0.0f);
+  CHECK(w.type(hanging) == BodyType::static_body);
+  std::size_t const contacts_before = w.contacts().size();
+  CHECK(w.set_type(hanging, BodyType::static_body) == BodyError::none); // no change
+  CHECK(w.contacts().size() == contacts_before);
 
   REQUIRE(w.set_type(hanging, BodyType::dynamic) == BodyError::none);
   CHECK(w.mass(hanging) == Approx(1000.0f)); // 1 m^3 at the density it was created with

@@ -25,7 +25,10 @@
 //
 // Build: rejects (error, nothing built) fewer than 2 samples along x or z, a height count
 // other than samples_x * samples_z, a NaN or infinite height (bad_item: its index), a cell
-// size that is not positive and finite, and 2^29 cells or more (triangle indices are 31-bit).
+// size that is not positive and finite, a field whose extent (cells x cell size) overflows,
+// cells so small that their triangles would be degenerate (cell_x * cell_z below 1.1e-19, the
+// square root of the smallest normal float: a TriangleMesh would drop such triangles), and
+// 2^29 cells or more (triangle indices are 31-bit).
 // Queries with non-finite input find nothing, as TriangleMesh's.
 #pragma once
 
@@ -38,6 +41,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <type_traits>
 #include <vector>
@@ -49,7 +53,7 @@ enum class HeightFieldError : std::uint8_t {
   too_small,         ///< fewer than 2 samples along x or z
   size_mismatch,     ///< heights.size() != samples_x * samples_z
   non_finite_height, ///< bad_item: the height's index
-  bad_cell_size,     ///< a cell size not positive and finite
+  bad_cell_size,     ///< not positive and finite, an extent that overflows, or degenerate cells
   too_many_cells,    ///< 2^29 or more
 };
 char const* to_string(HeightFieldError e) noexcept;
@@ -194,6 +198,7 @@ void HeightField::walk_ray(Ray3 const& ray, Vec3 const& grow, float max_toi, F&&
   if (levels_.empty() || !(max_toi >= 0.0f) || !bool(ray.origin.is_finite()) ||
       !bool(ray.dir.is_finite()) || ray.dir.length_squared() == 0.0f)
     return;
+  float const inf = std::numeric_limits<float>::infinity();
   auto const enter = [&](Aabb3 const& b, float limit) {
     return detail::ray_box_entry(ray, {b.min - grow, b.max + grow}, limit);
   };
@@ -203,7 +208,8 @@ void HeightField::walk_ray(Ray3 const& ray, Vec3 const& grow, float max_toi, F&&
   };
   std::vector<entry> stack;
   std::size_t const top = levels_.size() - 1;
-  if (float const t = enter(block_box(top, 0, 0), max_toi); t <= max_toi)
+  // An entry of +infinity is a miss (ray_box_entry's), even when max_toi is +infinity.
+  if (float const t = enter(block_box(top, 0, 0), max_toi); t <= max_toi && t < inf)
     stack.push_back({std::uint32_t(top), 0, 0, t});
   while (!stack.empty()) {
     entry const e = stack.back();
@@ -222,7 +228,7 @@ void HeightField::walk_ray(Ray3 const& ray, Vec3 const& grow, float max_toi, F&&
         std::uint32_t const x = 2 * e.bx + i, z = 2 * e.bz + j;
         if (x >= below.w || z >= below.d) continue;
         float const t = enter(block_box(e.level - 1, x, z), max_toi);
-        if (!(t <= max_toi)) continue;
+        if (!(t <= max_toi && t < inf)) continue;
         // Sorted far to near: the nearest is pushed last and popped first.
         entry const c{e.level - 1, x, z, t};
         std::size_t k = n++;

@@ -10,7 +10,7 @@
 // The shape is any convex shape of collision/shapes.hpp (sphere, capsule, cuboid, cylinder,
 // convex hull, triangle), placed by `pose`; the mesh is placed by `mesh_pose`; everything
 // reported is in world space. Triangles are two-sided: a shape is pushed out on the side of
-// each triangle where the origin of its frame (pose.translation) lies, front or back.
+// each triangle where the centre of its bounding box lies, front or back.
 //
 // Contacts: every triangle whose box meets the shape's box grown by the prediction distance
 // is collided as a Triangle (collision/manifold.hpp), in increasing triangle index. Each
@@ -29,9 +29,14 @@
 //     feature" means within 1e-4 times the triangle's longest edge of it.
 //  2. Merging. Manifolds whose normals are within merge_cosine of each other form one group
 //     (the first triangle in index order sets the group's normal); a group's points are
-//     reduced to 4 as a single manifold's are. Up to max_mesh_manifolds groups are kept: the
-//     deepest (least separation; ties to the lower triangle). A box resting across several
-//     triangles of a flat floor gets one manifold; a box in a valley gets one per slope.
+//     reduced to 4 as a single manifold's are. Past 64 points a group keeps its deepest
+//     point (of those within a tenth of the prediction distance of the deepest, the farthest
+//     from the group's centre) and its extreme points along 16 directions of the contact
+//     plane, so that a large shape over many small triangles still gets points across its
+//     whole footprint. Up to
+//     max_mesh_manifolds groups are kept: the deepest (least separation; ties to the lower
+//     triangle). A box resting across several triangles of a flat floor gets one manifold; a box in
+//     a valley gets one per slope.
 //  Point ids mix the triangle index into the feature id, so the same point on the same
 //  triangle keeps its id across frames (warm starting), and ids stay unique in a group.
 //
@@ -41,11 +46,13 @@
 // the field's pyramid) with every box grown by the shape's box (in the mesh's frame) and the
 // target distance, and a box entered later than the best time of impact found so far, plus a
 // slack for the cast's tolerance and rounding, is skipped. The normal points out of the mesh
-// toward the cast shape.
+// toward the cast shape. One exception to "bit for bit": a triangle whose cast stops at GJK's
+// iteration cap reports an early, conservative toi (collision/gjk.hpp) that its box may not
+// reach, and then brute force can report it where this does not.
 //
 // Bad input: a non-finite pose gives failed contacts (none) and no cast hit or overlap; a
-// non-finite motion, or a NaN, negative or infinite max_toi, gives no cast hit; an empty
-// mesh gives nothing.
+// non-finite motion, a NaN, negative or infinite max_toi, or a NaN, negative or infinite
+// target distance gives no cast hit; an empty mesh gives nothing.
 #pragma once
 
 #include <plume/collision/gjk.hpp>
@@ -170,23 +177,66 @@ struct mesh_group {
   Vec3 normal;
   std::uint32_t triangle = no_triangle; ///< of the deepest point
   float deepest = std::numeric_limits<float>::infinity();
+  float depth_tolerance = 0.0f; ///< see compact()
+  bool overflowed = false;      ///< compacted at least once
   candidates<float> points;
   void add(ContactPoint const& c, std::uint32_t tri) noexcept {
     if (c.separation < deepest) {
       deepest = c.separation;
       triangle = tri;
     }
-    if (points.n < candidates<float>::capacity) {
-      points.add(c);
-      return;
+    if (points.n == candidates<float>::capacity) {
+      compact(depth_tolerance);
+      overflowed = true;
     }
-    // Full: the new point replaces the shallowest when deeper (the first of equals).
-    int worst = 0;
-    for (int k = 1; k < points.n; ++k)
-      if (points.pts[std::size_t(k)].separation > points.pts[std::size_t(worst)].separation)
-        worst = k;
-    if (c.separation < points.pts[std::size_t(worst)].separation)
-      points.pts[std::size_t(worst)] = c;
+    points.add(c);
+  }
+  /// Keeps the deepest point and the extreme points along 16 directions of the contact plane
+  /// (the first of equals), at most 17 of the 64: the extremes of all the points a group ever
+  /// gathers are extremes of what is kept, so the final reduction still spans the footprint
+  /// of a large shape over many small triangles. The deepest goes first; points within
+  /// `tolerance` of the deepest count as deep as it, and of those the farthest from the
+  /// points' centre is taken (a flat box: a corner, not a point in the middle).
+  void compact(float tolerance) noexcept {
+    std::array<bool, candidates<float>::capacity> keep{};
+    float least = points.pts[0].separation;
+    Vec3 mid{};
+    for (int k = 0; k < points.n; ++k) {
+      least = std::min(least, points.pts[std::size_t(k)].separation);
+      mid = mid + points.pts[std::size_t(k)].point_a;
+    }
+    mid = mid * (1.0f / float(points.n));
+    int deepest_k = -1;
+    float far = -1.0f;
+    for (int k = 0; k < points.n; ++k) {
+      ContactPoint const& p = points.pts[std::size_t(k)];
+      float const d = (p.point_a - mid).length_squared();
+      if (p.separation <= least + tolerance && d > far) {
+        far = d;
+        deepest_k = k;
+      }
+    }
+    keep[std::size_t(deepest_k)] = true;
+    auto const basis = normal.any_orthonormal_pair();
+    for (int d = 0; d < 16; ++d) {
+      float const angle = float(d) * 0.39269908f; // 2 pi / 16
+      Vec3 const dir = basis[0] * std::cos(angle) + basis[1] * std::sin(angle);
+      int best = 0;
+      for (int k = 1; k < points.n; ++k)
+        if (points.pts[std::size_t(k)].point_a.dot(dir) >
+            points.pts[std::size_t(best)].point_a.dot(dir))
+          best = k;
+      keep[std::size_t(best)] = true;
+    }
+    std::array<ContactPoint, candidates<float>::capacity> kept;
+    int n = 0;
+    kept[std::size_t(n++)] = points.pts[std::size_t(deepest_k)];
+    for (int k = 0; k < points.n; ++k)
+      if (keep[std::size_t(k)] && k != deepest_k)
+        kept[std::size_t(n++)] = points.pts[std::size_t(k)];
+    for (int k = 0; k < n; ++k)
+      points.pts[std::size_t(k)] = kept[std::size_t(k)];
+    points.n = n;
   }
 };
 
@@ -226,23 +276,24 @@ MeshContacts mesh_contacts(Mesh const& mesh, Iso3 const& mesh_pose, Shape const&
     out.failed = true;
     return out;
   }
+  Aabb3 const box = shape.aabb(pose);
+  Vec3 const centre = box.min * 0.5f + box.max * 0.5f;
   std::vector<std::uint32_t> tris;
-  detail::mesh_candidates(mesh, mesh_pose, shape.aabb(pose).grow(cfg.manifold.prediction), tris);
+  detail::mesh_candidates(mesh, mesh_pose, box.grow(cfg.manifold.prediction), tris);
   std::vector<detail::mesh_group> groups;
   for (std::uint32_t const t : tris) {
     Manifold m = contact_manifold(mesh.triangle(t), mesh_pose, shape, pose, cfg.manifold);
     if (m.empty()) continue;
     Vec3 const face = mesh_pose.transform_vector(mesh.face_normal(t));
-    // The shape's side of the triangle: where the origin of its frame is.
-    bool const behind =
-        (pose.translation - mesh_pose.transform_point(mesh.triangle(t).a)).dot(face) < 0.0f;
+    // The shape's side of the triangle: where the centre of its box is.
+    bool const behind = (centre - mesh_pose.transform_point(mesh.triangle(t).a)).dot(face) < 0.0f;
     float const along = m.normal.dot(behind ? -face : face);
     if (cfg.correct_internal_edges && along < cfg.face_cosine) {
       bool active = false;
-      for (ContactPoint const& c : m) // a normal toward the far side is never kept
-        active = active || (along >= 0.0f &&
-                            detail::on_active_feature(
-                                mesh, t, mesh_pose.inverse_transform_point(c.point_a), behind));
+      if (along >= 0.0f) // a normal toward the far side is never kept
+        for (ContactPoint const& c : m)
+          active = active || detail::on_active_feature(
+                                 mesh, t, mesh_pose.inverse_transform_point(c.point_a), behind);
       if (!active) {
         Vec3 const n = behind ? -face : face;
         Manifold fixed;
@@ -264,6 +315,7 @@ MeshContacts mesh_contacts(Mesh const& mesh, Iso3 const& mesh_pose, Shape const&
       groups.push_back({});
       g = groups.end() - 1;
       g->normal = m.normal;
+      g->depth_tolerance = 0.1f * cfg.manifold.prediction;
     }
     for (ContactPoint c : m) {
       c.id = detail::mesh_point_id(c.id, t);
@@ -280,7 +332,13 @@ MeshContacts mesh_contacts(Mesh const& mesh, Iso3 const& mesh_pose, Shape const&
     MeshManifold& mm = out.manifolds[std::size_t(out.count++)];
     mm.manifold.normal = g.normal;
     mm.triangle = g.triangle;
-    detail::reduce_into(g.points, g.normal, mm.manifold);
+    if (g.overflowed) { // the final reduction sees the same kind of set each compaction kept
+      detail::mesh_group last = g;
+      last.compact(g.depth_tolerance);
+      detail::reduce_into(last.points, g.normal, mm.manifold);
+    } else {
+      detail::reduce_into(g.points, g.normal, mm.manifold);
+    }
   }
   return out;
 }
@@ -293,7 +351,8 @@ MeshShapeHit mesh_shape_cast(Mesh const& mesh, Iso3 const& mesh_pose, Shape cons
                              ShapeCastConfig const& cfg = {}) {
   MeshShapeHit best;
   if (!mesh_pose.is_finite() || !pose.is_finite() || !bool(motion.is_finite()) ||
-      !(cfg.max_toi >= 0.0f) || !std::isfinite(cfg.max_toi) || !(cfg.target_distance >= 0.0f))
+      !(cfg.max_toi >= 0.0f) || !std::isfinite(cfg.max_toi) || !(cfg.target_distance >= 0.0f) ||
+      !std::isfinite(cfg.target_distance))
     return best;
   Aabb3 const start = shape.aabb(pose);
   if (!bool(start.is_valid())) return best;
@@ -307,31 +366,31 @@ MeshShapeHit mesh_shape_cast(Mesh const& mesh, Iso3 const& mesh_pose, Shape cons
     best.normal = -c.normal;
     best.penetrating = bool(c.penetrating);
   };
-  float const speed = motion.length();
-  if (!(speed > 0.0f) || cfg.max_toi == 0.0f || !std::isfinite(speed)) {
+  // GJK reports a contact once the gap is within its tolerance (or the rounding floor of the
+  // coordinates) of the target distance, so the shape's box grows by that much: at any
+  // reported toi the grown box touches the triangle's box, whatever the angle of approach.
+  float const reach =
+      std::max(pose.translation.abs().max_element(), mesh_pose.translation.abs().max_element()) +
+      start.size().max_element() + 1.0f;
+  float const margin = 4.0f * cfg.gjk.tolerance + 64.0f * 0x1p-23f * reach;
+  if (motion.abs().max_element() == 0.0f || cfg.max_toi == 0.0f) {
     // No sweep: only a start in contact can hit.
     std::vector<std::uint32_t> tris;
-    detail::mesh_candidates(mesh, mesh_pose, start.grow(cfg.target_distance), tris);
+    detail::mesh_candidates(mesh, mesh_pose, start.grow(cfg.target_distance + margin), tris);
     for (std::uint32_t const t : tris)
       test(t);
     return best;
   }
-  // The shape's box in the mesh's frame, swept along the motion from its centre.
-  Aabb3 const local = detail::to_mesh_local(start, mesh_pose).grow(cfg.target_distance);
+  // The grown box in the mesh's frame, swept along the motion from its centre: a box entered
+  // after the best toi so far (plus a relative rounding slack) holds no triangle that could
+  // report a toi at or below it.
+  Aabb3 const local = detail::to_mesh_local(start, mesh_pose).grow(cfg.target_distance + margin);
   Vec3 const half = (local.max - local.min) * 0.5f, centre = (local.min + local.max) * 0.5f;
   Ray3 const sweep{centre, mesh_pose.inverse_transform_vector(motion)};
-  // GJK's toi is within its tolerance (or the rounding floor of the coordinates) of the true
-  // one, so a box entered up to that much after the best toi may still hold a triangle whose
-  // cast reports a toi at or below it.
-  float const reach = std::max(std::max(pose.translation.abs().max_element(),
-                                        mesh_pose.translation.abs().max_element()),
-                               half.max_element()) +
-                      1.0f;
-  float const slack = (4.0f * cfg.gjk.tolerance + 64.0f * 0x1p-23f * reach) / speed;
   mesh.swept_query(sweep, half, cfg.max_toi, [&](std::uint32_t t, float) {
     test(t);
     if (!best.hit()) return cfg.max_toi;
-    float const bound = best.toi + slack + best.toi * 0x1p-12f;
+    float const bound = best.toi + (best.toi + 0x1p-20f) * 0x1p-12f;
     return bound < cfg.max_toi ? bound : cfg.max_toi;
   });
   return best;

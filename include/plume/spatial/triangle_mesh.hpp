@@ -193,28 +193,26 @@ Vec3 unit_face_normal(Triangle const& t) noexcept;
 /// of unit normal m whose vertex off the edge is r (the rule at the top of this header).
 EdgeKind edge_kind(Vec3 const& n, Vec3 const& m, Vec3 const& p, Vec3 const& r,
                    float flat_cosine) noexcept;
-} // namespace detail
 
-// ------------------------------------------------------------------------ templates
-
-template <Real T, std::size_t K>
-MeshRayHit TriangleMesh::ray_cast_with(GWideBvh<T, K> const& bvh, Ray3 const& ray,
-                                       float max_toi) const {
+/// A ray's least (toi, triangle) over triangles tried one by one in any order, as the mesh's
+/// and the height field's traversals find it. Their boxes are tight, so a triangle's rounded
+/// toi can fall a few ulps before the rounded entry of its box: test() returns best + slack
+/// as the traversal's bound, so that no triangle whose toi could tie or beat the best is
+/// pruned, which makes the result the least (toi, index) over all triangles.
+struct NearestTriangleHit {
+  Ray3 ray;
+  float max_toi, scale, limit;
   MeshRayHit best;
-  if (!(max_toi >= 0.0f)) return best;
-  // Node boxes are tight (margin 0), so a triangle's rounded toi can fall a few ulps before
-  // the rounded entry of its box; the traversal is told best + slack so that no triangle
-  // whose toi could tie or beat the best is pruned, which makes the result the least
-  // (toi, index) over all triangles whatever the node order.
-  Vec3 const ao = ray.origin.abs(), ad = ray.dir.abs();
-  float const dmax = std::max(std::max(ad.x, ad.y), ad.z);
-  float const scale = (std::max(std::max(ao.x, ao.y), ao.z) + 1.0f) / dmax;
-  float limit = max_toi;
-  Triangle const* const tris = tris_.data();
-  bvh.ray_query(ray, max_toi, [&](ProxyId id, float) {
-    RayHit const h = ray_cast_local(tris[id], ray, limit);
-    if (h.hit && (h.toi < limit || id < best.triangle)) {
-      best.triangle = id;
+  NearestTriangleHit(Ray3 const& r, float max) noexcept : ray(r), max_toi(max), limit(max) {
+    Vec3 const ao = r.origin.abs(), ad = r.dir.abs();
+    float const dmax = std::max(std::max(ad.x, ad.y), ad.z);
+    scale = (std::max(std::max(ao.x, ao.y), ao.z) + 1.0f) / dmax;
+  }
+  /// Casts against triangle t; returns the bound beyond which a box holds nothing better.
+  float test(Triangle const& tri, std::uint32_t t) noexcept {
+    RayHit const h = ray_cast_local(tri, ray, limit);
+    if (h.hit && (h.toi < limit || t < best.triangle)) {
+      best.triangle = t;
       best.toi = h.toi;
       best.normal = h.normal;
       best.back = h.feature == 1.0f;
@@ -222,8 +220,47 @@ MeshRayHit TriangleMesh::ray_cast_with(GWideBvh<T, K> const& bvh, Ray3 const& ra
     }
     float const next = limit + (limit + scale) * 0x1p-12f;
     return next < max_toi ? next : max_toi;
-  });
-  return best;
+  }
+};
+
+/// A point's nearest triangle (least squared distance, ties to the lower index) over
+/// triangles tried one by one, as the mesh's and the height field's traversals find it; a box
+/// is worth visiting while its squared distance is at most bound() (a relative slack, since
+/// boxes round differently from triangles).
+struct NearestTrianglePoint {
+  Vec3 p;
+  float best_d2;
+  MeshClosestPoint best;
+  NearestTrianglePoint(Vec3 const& point, float max_distance) noexcept
+      : p(point), best_d2(std::isinf(max_distance) ? max_distance : max_distance * max_distance) {}
+  float bound() const noexcept { return best_d2 + best_d2 * 0x1p-10f; }
+  void test(Triangle const& tri, std::uint32_t t) noexcept {
+    Vec3 const c = closest_point_on_triangle(tri, p);
+    float const d2 = (p - c).length_squared();
+    if (d2 < best_d2 || (d2 == best_d2 && t < best.triangle)) {
+      best_d2 = d2;
+      best.triangle = t;
+      best.point = c;
+    }
+  }
+  MeshClosestPoint result() const noexcept {
+    MeshClosestPoint r = best;
+    if (r.found()) r.distance = std::sqrt(best_d2);
+    return r;
+  }
+};
+} // namespace detail
+
+// ------------------------------------------------------------------------ templates
+
+template <Real T, std::size_t K>
+MeshRayHit TriangleMesh::ray_cast_with(GWideBvh<T, K> const& bvh, Ray3 const& ray,
+                                       float max_toi) const {
+  if (!(max_toi >= 0.0f)) return {};
+  detail::NearestTriangleHit nearest(ray, max_toi); // node boxes are tight (margin 0)
+  Triangle const* const tris = tris_.data();
+  bvh.ray_query(ray, max_toi, [&](ProxyId id, float) { return nearest.test(tris[id], id); });
+  return nearest.best;
 }
 
 template <class F>

@@ -220,8 +220,7 @@ void GWideBvh<T, K>::build(GAabbTree<S> const& tree) {
 
 template <Real T, std::size_t K>
 template <bool Grown, class F>
-void GWideBvh<T, K>::walk_ray(GRay3<S> const& ray, GVec3<S> const& grow, S max_toi,
-                              F& f) const {
+void GWideBvh<T, K>::walk_ray(GRay3<S> const& ray, GVec3<S> const& grow, S max_toi, F& f) const {
   if (nodes_.empty() || !detail::usable_ray(ray) || !(max_toi >= S(0))) return;
   [[maybe_unused]] GVec3<T> const g3 = detail::splat3<T>(grow);
   bool const neg[3] = {std::signbit(ray.dir.x), std::signbit(ray.dir.y), std::signbit(ray.dir.z)};

@@ -10,9 +10,10 @@
 //      points that have not moved.
 // An unmatched point starts from zero. The patch friction impulses carry over whole.
 // A pair with several manifolds (a body on a mesh: one per group of triangles with one
-// normal) matches each to the unclaimed previous contact of the pair whose normal is nearest
-// its own, if within 60 degrees; a pair with one manifold before and now matches it whatever
-// the normals.
+// normal) matches its manifolds and previous contacts by their normals: of the pairs within
+// 60 degrees, the most aligned first (ties: the earlier manifold, then the earlier contact),
+// each manifold and contact used once; a pair with one manifold now and at most one contact
+// before matches them whatever the normals.
 // Colours: a contact keeps its colour; the colours of ended contacts are freed before new
 // contacts are coloured, in pair order, so the colouring depends only on the sequence of
 // steps, never on the SIMD width.

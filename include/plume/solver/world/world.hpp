@@ -334,9 +334,11 @@ public:
   /// Changes the body's type, keeping its pose, shape, material, layers and (unless it becomes
   /// static) its velocities. Becoming dynamic computes the mass from the shape and the
   /// density it was created with (zero_mass, or bad_shape for a mesh or height field, as
-  /// create_body; the world is then unchanged); becoming static stops it. Its contacts are
-  /// found again by the next step under the new type's rules (no warm start that step); the
-  /// events of that step report only pairs that stopped touching. bad_body for a stale id.
+  /// create_body; the world is then unchanged); becoming static stops it. A frozen body
+  /// (frozen_bodies()) set to any type, its own included, is unfrozen and at rest. Its contacts
+  /// are found again by the next step under the new type's rules (no warm start that step);
+  /// pairs the new type no longer simulates (a static body on static ground) end in that
+  /// step's events, and new ones begin. bad_body for a stale id.
   BodyError set_type(BodyId id, BodyType type);
 
   CollisionLayers layers(BodyId id) const { return body(id).layers; }
