@@ -3,6 +3,7 @@
 // 100 frames unless said), each asserting the property it names; the callback's contract; bad
 // input; and a user's collider span (ColliderSetQuery) giving the world's path bit for bit.
 #include "../common/harness.hpp"
+#include "../spatial/mesh_support.hpp"
 
 #include <plume/solver/character/collider_set.hpp>
 #include <plume/solver/character/move_and_slide.hpp>
@@ -291,21 +292,11 @@ TEST_CASE("move and slide: seams between mesh triangles and height-field cells d
   std::vector<float> const heights((n + 1) * (n + 1), 0.0f);
   auto field = HeightField::build(n + 1, n + 1, heights, 0.5f, 0.5f);
   REQUIRE(field.ok());
-  std::vector<Vec3> verts;
-  for (std::uint32_t z = 0; z <= n; ++z)
-    for (std::uint32_t x = 0; x <= n; ++x)
-      verts.push_back(field.field.vertex(x, z));
-  std::vector<std::uint32_t> idx;
-  for (std::uint32_t z = 0; z < n; ++z)
-    for (std::uint32_t x = 0; x < n; ++x) {
-      std::uint32_t const a = z * (n + 1) + x, b = a + 1, c = a + n + 1, d = c + 1;
-      idx.insert(idx.end(), {a, c, b, b, c, d});
-    }
-  auto mesh = TriangleMesh::build(verts, idx);
-  REQUIRE(mesh.ok());
+  // The same vertices and triangles as a mesh (the height field's documented order).
+  TriangleMesh mesh = test::make(test::grid(n, 0.5f, [](float, float) { return 0.0f; }));
   Iso3 const at = Iso3::from_translation({-10.0f, -1.0f - skin, -20.0f});
   for (BodyShape const& floor :
-       {BodyShape{MeshShape{std::make_shared<TriangleMesh const>(std::move(mesh.mesh))}},
+       {BodyShape{MeshShape{std::make_shared<TriangleMesh const>(std::move(mesh))}},
         BodyShape{HeightFieldShape{std::make_shared<HeightField const>(std::move(field.field))}}}) {
     World w;
     w.create_body({.type = BodyType::static_body, .pose = at, .shape = floor});

@@ -51,6 +51,23 @@ Iso3 random_pose(std::mt19937& g, float lo, float hi, float y_lo, float y_hi) {
 /// The angle between two unit vectors, radians.
 float angle(Vec3 const& a, Vec3 const& b) { return std::atan2(a.cross(b).length(), a.dot(b)); }
 
+/// The least-toi hit of casting against every triangle of m as a separate shape (ties to the
+/// lower triangle): the brute force mesh_shape_cast must equal.
+template <class Shape>
+MeshShapeHit brute_cast(TriangleMesh const& m, Iso3 const& mp, Shape const& shape, Iso3 const& pose,
+                        Vec3 const& motion, ShapeCastConfig const& cfg) {
+  MeshShapeHit want;
+  for (std::uint32_t t = 0; t < m.triangle_count(); ++t) {
+    ShapeCastHit const c = shape_cast(shape, pose, motion, m.triangle(t), mp, cfg);
+    if (c.hit && !c.failed && c.toi < want.toi) {
+      want.triangle = t;
+      want.toi = c.toi;
+      want.normal = -c.normal;
+    }
+  }
+  return want;
+}
+
 /// A mesh placed off the origin and turned, so that every query also tests the frames.
 Iso3 const mesh_pose{Quat::from_axis_angle(Vec3{0.3f, 1.0f, -0.2f}.normalize(), 0.4f),
                      Vec3{1.5f, -0.25f, 2.0f}};
@@ -295,15 +312,7 @@ TEST_CASE("mesh_shape_cast equals the least cast over every triangle", "[spatial
     std::visit(
         [&](auto const& s) {
           MeshShapeHit const got = mesh_shape_cast(m, mesh_pose, s, pose, motion, cfg);
-          MeshShapeHit want;
-          for (std::uint32_t t = 0; t < m.triangle_count(); ++t) {
-            ShapeCastHit const c = shape_cast(s, pose, motion, m.triangle(t), mesh_pose, cfg);
-            if (c.hit && !c.failed && c.toi < want.toi) {
-              want.triangle = t;
-              want.toi = c.toi;
-              want.normal = -c.normal;
-            }
-          }
+          MeshShapeHit const want = brute_cast(m, mesh_pose, s, pose, motion, cfg);
           REQUIRE(got.triangle == want.triangle);
           if (!want.hit()) return;
           ++hits;
@@ -342,14 +351,7 @@ TEST_CASE("mesh_shape_cast onto a flat grid, where many triangles tie, equals br
     if (k % 2 == 0) cfg.max_toi = 2.0f; // glancing: the fall takes longer than one motion
     auto const check = [&](auto const& shape) {
       MeshShapeHit const got = mesh_shape_cast(m, mesh_pose, shape, pose, motion, cfg);
-      MeshShapeHit want;
-      for (std::uint32_t t = 0; t < m.triangle_count(); ++t) {
-        ShapeCastHit const c = shape_cast(shape, pose, motion, m.triangle(t), mesh_pose, cfg);
-        if (c.hit && !c.failed && c.toi < want.toi) {
-          want.triangle = t;
-          want.toi = c.toi;
-        }
-      }
+      MeshShapeHit const want = brute_cast(m, mesh_pose, shape, pose, motion, cfg);
       if (k % 5 == 0 && want.hit()) { // again, with max_toi just past the contact
         ShapeCastConfig tight = cfg;
         tight.max_toi = want.toi * 1.0001f;
@@ -413,6 +415,8 @@ TEST_CASE("mesh queries: bad input finds nothing", "[spatial][mesh]") {
   REQUIRE_FALSE(mesh_shape_cast(m, Iso3{}, s, above, down, {.max_toi = inf}).hit());
   REQUIRE_FALSE(mesh_shape_cast(m, Iso3{}, s, above, down, {.max_toi = qnan}).hit());
   REQUIRE_FALSE(mesh_shape_cast(m, Iso3{}, s, above, down, {.max_toi = -1.0f}).hit());
+  REQUIRE_FALSE(mesh_shape_cast(m, Iso3{}, s, above, down, {.target_distance = inf}).hit());
+  REQUIRE_FALSE(mesh_shape_cast(m, Iso3{}, s, above, down, {.target_distance = qnan}).hit());
   REQUIRE_FALSE(mesh_shape_cast(m, Iso3{}, s, above, Vec3{0.0f, qnan, 0.0f}, {}).hit());
   REQUIRE_FALSE(mesh_shape_cast(m, Iso3{}, s, bad, down, {}).hit());
   REQUIRE_FALSE(mesh_shape_cast(TriangleMesh{}, Iso3{}, s, above, down, {.max_toi = 2.0f}).hit());

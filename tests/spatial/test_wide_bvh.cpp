@@ -4,6 +4,8 @@
 // arity; and detail::ray_enters is lane-exact and right on its edge cases.
 #include "spatial_support.hpp"
 
+#include <plume/spatial/wide_bvh.hpp>
+
 #include "../math/math_support.hpp"
 
 #include <cmath>

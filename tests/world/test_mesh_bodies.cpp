@@ -28,13 +28,18 @@ std::shared_ptr<TriangleMesh const> flat_floor() {
       make(grid(16, 1.0f, [](float, float) { return 0.0f; })));
 }
 
-BodyId add_mesh(World& w, std::shared_ptr<TriangleMesh const> mesh, float friction = 0.6f) {
+/// A static body of `shape` (a mesh or a height field) with its origin at (-8, 0, -8).
+BodyId add_ground_shape(World& w, BodyShape const& shape, float friction = 0.6f) {
   CreateBodyResult const r = w.create_body({.type = BodyType::static_body,
                                             .pose = Iso3::from_translation({-8.0f, 0.0f, -8.0f}),
-                                            .shape = MeshShape{std::move(mesh)},
+                                            .shape = shape,
                                             .friction = friction});
   REQUIRE(r);
   return r.id;
+}
+
+BodyId add_mesh(World& w, std::shared_ptr<TriangleMesh const> mesh, float friction = 0.6f) {
+  return add_ground_shape(w, MeshShape{std::move(mesh)}, friction);
 }
 
 /// The same floor as a height field: 17 x 17 samples, 1 m cells.
@@ -46,12 +51,7 @@ std::shared_ptr<HeightField const> flat_field() {
 }
 
 BodyId add_field(World& w, std::shared_ptr<HeightField const> field, float friction = 0.6f) {
-  CreateBodyResult const r = w.create_body({.type = BodyType::static_body,
-                                            .pose = Iso3::from_translation({-8.0f, 0.0f, -8.0f}),
-                                            .shape = HeightFieldShape{std::move(field)},
-                                            .friction = friction});
-  REQUIRE(r);
-  return r.id;
+  return add_ground_shape(w, HeightFieldShape{std::move(field)}, friction);
 }
 
 BodyId add_half_space(World& w, float friction = 0.6f) {
@@ -284,7 +284,7 @@ TEST_CASE("mesh bodies: the narrow phase turns a mesh's manifolds round when the
   REQUIRE(detail::collide(box, box_pose, floor, floor_pose, cfg, as_b) == 1);
   Manifold const& a = as_a[0];
   Manifold const& b = as_b[0];
-  CHECK(a.normal.y == Approx(1.0f).margin(1e-6)); // from A (the floor) toward the box
+  CHECK(a.normal.y == Approx(1.0f).margin(1e-6));  // from A (the floor) toward the box
   CHECK(b.normal.y == Approx(-1.0f).margin(1e-6)); // from A (the box) toward the floor
   REQUIRE(a.count == 4);
   REQUIRE(b.count == 4);

@@ -429,6 +429,10 @@ TEST_CASE("world queries: filters, layers, fresh poses, both broad phases, bad i
   CHECK(!w.project_point({nan, 0, 0}, 1.0f));
   CHECK(!w.shape_cast(Sphere{0.1f}, Iso3::from_translation({0, 5, 0}), {nan, 0, 0}));
   CHECK(!w.shape_cast(HalfSpace{Vec3::Y}, Iso3{}, {0, -1, 0})); // not a convex query shape
+  CHECK(!w.shape_cast(Sphere{0.1f}, Iso3::from_translation({0, 5, 0}), {0, -10, 0},
+                      {.target_distance = std::numeric_limits<float>::infinity()}));
+  CHECK(!w.shape_cast(Sphere{0.1f}, Iso3::from_translation({0, 5, 0}), {0, -10, 0},
+                      {.target_distance = nan}));
   int calls = 0;
   w.point_query({nan, 0, 0}, [&](BodyId) { return ++calls > 0; });
   w.overlap_aabb({Vec3::splat(nan), Vec3::splat(nan)}, [&](BodyId) { return ++calls > 0; });

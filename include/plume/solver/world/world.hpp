@@ -113,6 +113,7 @@ struct MeshShape {
   Aabb3 aabb(Iso3 const& pose) const noexcept {
     return mesh && !mesh->empty() ? mesh->local_aabb().transformed(pose) : Aabb3::EMPTY;
   }
+  /// The mesh (null without one): what the world's queries and contacts run on.
   TriangleMesh const* source() const noexcept { return mesh.get(); }
 };
 
@@ -124,6 +125,7 @@ struct HeightFieldShape {
   Aabb3 aabb(Iso3 const& pose) const noexcept {
     return field && !field->empty() ? field->local_aabb().transformed(pose) : Aabb3::EMPTY;
   }
+  /// The field (null without one): what the world's queries and contacts run on.
   HeightField const* source() const noexcept { return field.get(); }
 };
 
