@@ -73,12 +73,15 @@ public:
                                       std::span<float const> heights, float cell_x, float cell_z,
                                       MeshConfig const& config = {});
 
+  // Accessors taking a sample (x < samples_x(), z < samples_z()), cell or triangle index
+  // (< triangle_count()) expect it in range and do not check it, as TriangleMesh's.
   std::uint32_t samples_x() const noexcept { return nx_; }
   std::uint32_t samples_z() const noexcept { return nz_; }
   std::uint32_t cells_x() const noexcept { return nx_ > 0 ? nx_ - 1 : 0; }
   std::uint32_t cells_z() const noexcept { return nz_ > 0 ? nz_ - 1 : 0; }
   float cell_x() const noexcept { return sx_; }
   float cell_z() const noexcept { return sz_; }
+  /// The height of sample (x, z), local units.
   float height(std::uint32_t x, std::uint32_t z) const noexcept { return h_[z * nx_ + x]; }
   std::span<float const> heights() const noexcept { return h_; }
   /// The local vertex of sample (x, z).
