@@ -16,54 +16,112 @@ void SortAndSweep::sort(std::span<Aabb3 const> boxes) {
 
 BvhBroadPhase::BvhBroadPhase() = default;
 
-void BvhBroadPhase::remove(std::uint32_t index) {
-  if (index >= slots_.size()) return;
-  Slot& s = slots_[index];
-  if (s.where == Where::static_tree) {
-    static_.remove(s.proxy);
-    static_changed_ = true;
-  } else if (s.where == Where::moving_tree) {
-    moving_.remove(s.proxy);
-  } else if (s.where == Where::unbounded) {
-    unbounded_.erase(std::find(unbounded_.begin(), unbounded_.end(), index));
-  }
-  s = Slot{};
+void BvhBroadPhase::mark_moved(std::uint32_t i) {
+  if (is_moved_.size() < slots_.size()) is_moved_.resize(slots_.size(), 0);
+  if (is_moved_[i]) return;
+  is_moved_[i] = 1;
+  moved_.push_back(i);
 }
 
-void BvhBroadPhase::set_box(std::uint32_t index, Aabb3 const& box, bool moving) {
-  if (index >= slots_.size()) slots_.resize(index + 1);
+void BvhBroadPhase::remove(std::uint32_t index) {
+  if (index >= slots_.size() || !slots_[index].live) return;
   Slot& s = slots_[index];
-  s.box = box;
-  Where const want = !bool(box.is_valid()) ? Where::unbounded
-                     : moving              ? Where::moving_tree
-                                           : Where::static_tree;
-  if (s.where != want) { // leave the old place, enter the new one
+  if (s.unbounded) {
+    unbounded_.erase(std::find(unbounded_.begin(), unbounded_.end(), index));
+  } else {
+    tree_of(s).remove(s.proxy);
+    if (s.kind == ProxyKind::static_body) static_changed_ = true;
+  }
+  s = Slot{}; // its candidate pairs go at the next update (dead slots keep none)
+}
+
+void BvhBroadPhase::set_box(std::uint32_t index, Aabb3 const& box, ProxyKind kind) {
+  if (index >= slots_.size()) slots_.resize(index + 1);
+  bool const unbounded = !bool(box.is_valid());
+  Slot& s = slots_[index];
+  if (!s.live || s.unbounded != unbounded || s.kind != kind) { // leave the old place, enter anew
     remove(index);
+    s.live = true;
+    s.unbounded = unbounded;
+    s.kind = kind;
     s.box = box;
-    if (want == Where::static_tree) {
-      s.proxy = static_.insert(box, index);
-      static_changed_ = true;
-    } else if (want == Where::moving_tree) {
-      s.proxy = moving_.insert(box, index);
-    } else {
+    if (unbounded) {
       unbounded_.insert(std::lower_bound(unbounded_.begin(), unbounded_.end(), index), index);
+    } else {
+      s.proxy = tree_of(s).insert(box, index);
+      if (kind == ProxyKind::static_body) static_changed_ = true;
     }
-    s.where = want;
+    mark_moved(index);
     return;
   }
-  if (want == Where::static_tree) {
-    if (static_.move(s.proxy, box)) static_changed_ = true;
-  } else if (want == Where::moving_tree) {
-    moving_.move(s.proxy, box);
+  if (unbounded) {
+    auto const eq = [](Vec3 const& a, Vec3 const& b) {
+      return a.x == b.x && a.y == b.y && a.z == b.z;
+    };
+    bool const same = eq(box.min, s.box.min) && eq(box.max, s.box.max);
+    s.box = box;
+    if (!same) mark_moved(index);
+  } else {
+    s.box = box;
+    if (tree_of(s).move(s.proxy, box)) {
+      if (kind == ProxyKind::static_body) static_changed_ = true;
+      mark_moved(index);
+    }
   }
+}
+
+void BvhBroadPhase::update_candidates() {
+  auto const dynamic = [&](std::uint32_t i) { return slots_[i].kind == ProxyKind::dynamic; };
+  // Drop the pairs that ended: a body gone or of a kind that no longer pairs, or fat boxes
+  // apart.
+  auto const ended = [&](std::uint64_t k) {
+    std::uint32_t const i = body_pair_first(k), j = body_pair_second(k);
+    if (!slots_[i].live || !slots_[j].live || !(dynamic(i) || dynamic(j))) return true;
+    return !bool(fat(i).intersects(fat(j)));
+  };
+  candidates_.erase(std::remove_if(candidates_.begin(), candidates_.end(), ended),
+                    candidates_.end());
+  // New pairs, from the moved bodies only.
+  fresh_.clear();
+  std::sort(moved_.begin(), moved_.end()); // the same queries in the same order, any history
+  last_queries_ = 0;
+  for (std::uint32_t i : moved_) {
+    is_moved_[i] = 0;
+    if (!slots_[i].live) continue;
+    ++last_queries_;
+    Aabb3 const box = fat(i);
+    bool const all = dynamic(i);
+    auto const consider = [&](std::uint32_t j) {
+      if (j != i && bool(box.intersects(fat(j)))) fresh_.push_back(body_pair_key(i, j));
+    };
+    for (ProxyKind kind : {ProxyKind::static_body, ProxyKind::kinematic, ProxyKind::dynamic}) {
+      if (!all && kind != ProxyKind::dynamic) continue;
+      AabbTree const& t = trees_[std::size_t(kind)];
+      t.query(box, [&](ProxyId p) {
+        consider(std::uint32_t(t.user(p)));
+        return true;
+      });
+    }
+    for (std::uint32_t j : unbounded_)
+      if (all || dynamic(j)) consider(j);
+  }
+  moved_.clear();
+  if (fresh_.empty()) return;
+  std::sort(fresh_.begin(), fresh_.end());
+  std::size_t const old = candidates_.size();
+  candidates_.insert(candidates_.end(), fresh_.begin(), fresh_.end());
+  std::inplace_merge(candidates_.begin(), candidates_.begin() + std::ptrdiff_t(old),
+                     candidates_.end());
+  candidates_.erase(std::unique(candidates_.begin(), candidates_.end()), candidates_.end());
 }
 
 void BvhBroadPhase::optimize() {
   if (static_changed_) {
-    static_.rebuild();
+    trees_[std::size_t(ProxyKind::static_body)].rebuild();
     static_changed_ = false;
   }
-  last_ = moving_.optimize(TreeOptimization::adaptive);
+  for (ProxyKind kind : {ProxyKind::kinematic, ProxyKind::dynamic})
+    last_[std::size_t(kind)] = trees_[std::size_t(kind)].optimize(TreeOptimization::adaptive);
 }
 
 } // namespace plume

@@ -70,9 +70,10 @@ Aabb3 clamp_box(Aabb3 const& b) { // infinite query boxes become the largest fin
 void World::sync_trees() const {
   if (trees_synced_) return;
   for (std::uint32_t i : moving_bodies_)
-    bvh_.set_box(i, grown_aabb(i), true);
+    bvh_.set_box(i, grown_aabb(i),
+                 bodies_[i].type == BodyType::dynamic ? ProxyKind::dynamic : ProxyKind::kinematic);
   for (std::uint32_t i : stale_statics_) // every new or teleported static body
-    if (bodies_[i].alive) bvh_.set_box(i, grown_aabb(i), false);
+    if (bodies_[i].alive) bvh_.set_box(i, grown_aabb(i), ProxyKind::static_body);
   stale_statics_.clear();
   // Sort and sweep never asks the trees for pairs: keep their quality here.
   if (config_.broad_phase == BroadPhaseKind::sort_and_sweep) bvh_.optimize();
@@ -92,7 +93,7 @@ void World::candidates(Aabb3 const& box, QueryFilter const& filter,
   sync_trees();
   Aabb3 const q = clamp_box(box);
   if (!bool(q.is_valid())) return;
-  for (AabbTree const* tree : {&bvh_.static_tree(), &bvh_.moving_tree()})
+  for (AabbTree const* tree : bvh_.trees())
     tree->query(q, [&](ProxyId p) {
       auto const i = std::uint32_t(tree->user(p));
       if (bool(bvh_.box(i).intersects(q)) && passes(i, filter)) out.push_back(i);
@@ -132,7 +133,7 @@ void World::ray_cast_all(Ray3 const& ray, float max_toi,
     RayHit const h = cast_ray(b.shape, b.pose, ray, limit);
     if (h.hit) hits.push_back({BodyId{i, bodies_[i].generation}, h.toi, ray.at(h.toi), h.normal});
   };
-  for (AabbTree const* tree : {&bvh_.static_tree(), &bvh_.moving_tree()})
+  for (AabbTree const* tree : bvh_.trees())
     tree->ray_query(ray, limit, [&](ProxyId p, float) {
       test(std::uint32_t(tree->user(p)));
       return limit;
@@ -162,7 +163,7 @@ std::optional<WorldRayHit> World::ray_cast(Ray3 const& ray, float max_toi,
     limit = h.toi;
   };
   // Closest first: each tree's traversal skips boxes entered beyond the best toi so far.
-  for (AabbTree const* tree : {&bvh_.static_tree(), &bvh_.moving_tree()})
+  for (AabbTree const* tree : bvh_.trees())
     tree->ray_query(ray, limit, [&](ProxyId p, float) {
       test(std::uint32_t(tree->user(p)));
       return limit;

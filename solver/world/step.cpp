@@ -87,13 +87,7 @@ void World::find_pairs() {
     return;
   }
   sync_trees(); // a no-op when nothing changed since the last step's end
-  dynamic_queriers_.clear();
-  kinematic_queriers_.clear();
-  for (std::uint32_t i : moving_bodies_) {
-    if (bodies_[i].frozen) continue;
-    (bodies_[i].type == BodyType::dynamic ? dynamic_queriers_ : kinematic_queriers_).push_back(i);
-  }
-  bvh_.find_pairs(dynamic_queriers_, kinematic_queriers_, keep, pairs_);
+  bvh_.find_pairs(keep, pairs_);
 }
 
 /// Pairs with a sensor leave pairs_ (no manifold, no contact) for sensor_pairs_.

@@ -60,66 +60,140 @@ TEST_CASE("body pair keys order by the smaller index, either argument order",
   CHECK(body_pair_key(1, 2) < body_pair_key(2, 1) + 1);
 }
 
-TEST_CASE("bvh broad phase: the pairs brute force finds, through moves and category changes",
+TEST_CASE("bvh broad phase: the pairs brute force finds, through moves and kind changes",
           "[world][broad-phase]") {
-  // Bodies 0..n: a category each step (static, moving, unbounded), boxes that drift, jump and
-  // sometimes become infinite. Queriers are moving bodies, "dynamic" ones (even index) also
-  // asking the static tree; keep() is the world's rule: at least one body dynamic.
+  // Bodies 0..n of each kind (static, kinematic, dynamic), some unbounded (a half-space's
+  // infinite box), whose boxes creep inside their fat boxes, drift out of them and jump; some
+  // change kind, leave and come back. The candidate pairs persist between calls, so a pair
+  // missed when a body moved stays missed: brute force every step finds that.
   std::mt19937 rng(23);
-  std::uniform_real_distribution<float> at(-8.0f, 8.0f), size(0.0f, 1.5f), drift(-0.1f, 0.1f);
+  std::uniform_real_distribution<float> at(-8.0f, 8.0f), size(0.0f, 1.5f), drift(-0.1f, 0.1f),
+      creep(-0.004f, 0.004f);
   std::size_t const n = 300;
   std::vector<Aabb3> boxes(n);
-  std::vector<int> kind(n); // 0 static, 1 moving, 2 unbounded
+  std::vector<ProxyKind> kind(n);
+  std::vector<char> unbounded(n), live(n, 1);
   BvhBroadPhase bvh;
   std::vector<std::uint64_t> pairs;
   auto const random_box = [&] {
     Vec3 const lo{at(rng), at(rng), at(rng)};
     return Aabb3{lo, lo + Vec3{size(rng), size(rng), size(rng)}};
   };
+  auto const random_kind = [&] { return ProxyKind(rng() % 3); };
   for (std::uint32_t i = 0; i < n; ++i) {
-    kind[i] = int(rng() % 10 < 6 ? 1 : rng() % 10 < 9 ? 0 : 2);
+    kind[i] = random_kind();
+    unbounded[i] = rng() % 10 == 0;
     boxes[i] = random_box();
   }
+  std::size_t queries = 0, calls = 0;
   for (int step = 0; step < 200; ++step) {
     for (std::uint32_t i = 0; i < n; ++i) {
-      auto const r = std::uint32_t(rng() % 100);
-      if (r < 2) kind[i] = int(rng() % 3); // change category
-      if (kind[i] == 1 || r < 3) {
-        if (r < 10)
+      auto const r = std::uint32_t(rng() % 1000);
+      if (r < 5) { // leaves the broad phase, or comes back
+        live[i] = !live[i];
+        if (!live[i]) bvh.remove(i);
+      }
+      if (!live[i]) continue;
+      if (r >= 5 && r < 20) kind[i] = random_kind();
+      if (r >= 20 && r < 25) unbounded[i] = !unbounded[i];
+      bool const moves = (kind[i] != ProxyKind::static_body || r < 40) && !(r >= 5 && r < 25);
+      if (moves) {
+        if (r < 60)
           boxes[i] = random_box(); // a jump
         else {
-          Vec3 const d{drift(rng), drift(rng), drift(rng)};
+          bool const small = r % 2 == 0; // stays inside the fat box, mostly
+          Vec3 const d = small ? Vec3{creep(rng), creep(rng), creep(rng)}
+                               : Vec3{drift(rng), drift(rng), drift(rng)};
           boxes[i] = {boxes[i].min + d, boxes[i].max + d};
         }
       }
       Aabb3 box = boxes[i];
-      if (kind[i] == 2) box.min.y = -std::numeric_limits<float>::infinity(); // a half-space
-      bvh.set_box(i, box, kind[i] == 1);
+      if (unbounded[i]) box.min.y = -std::numeric_limits<float>::infinity(); // a half-space
+      bvh.set_box(i, box, kind[i]);
     }
-    std::vector<std::uint32_t> dyn, kin;
-    for (std::uint32_t i = 0; i < n; ++i)
-      if (kind[i] == 1) (i % 2 == 0 ? dyn : kin).push_back(i);
-    auto const is_dynamic = [&](std::uint32_t i) { return kind[i] == 1 && i % 2 == 0; };
-    auto const keep = [&](std::uint32_t a, std::uint32_t b) {
-      return is_dynamic(a) || is_dynamic(b);
-    };
-    bvh.find_pairs(dyn, kin, keep, pairs);
+    auto const keep = [&](std::uint32_t a, std::uint32_t b) { return (a + 2 * b) % 7 != 0; };
+    bvh.find_pairs(keep, pairs);
+    queries += bvh.last_query_count();
+    ++calls;
     std::vector<std::uint64_t> brute;
     for (std::uint32_t i = 0; i < n; ++i)
       for (std::uint32_t j = i + 1; j < n; ++j) {
+        if (!live[i] || !live[j]) continue;
         Aabb3 a = boxes[i], b = boxes[j];
-        if (kind[i] == 2) a.min.y = -std::numeric_limits<float>::infinity();
-        if (kind[j] == 2) b.min.y = -std::numeric_limits<float>::infinity();
-        // Only a querier finds pairs: a pair of non-moving bodies is never reported.
-        if ((kind[i] == 1 || kind[j] == 1) && overlap(a, b) && keep(i, j))
-          brute.push_back(body_pair_key(i, j));
+        if (unbounded[i]) a.min.y = -std::numeric_limits<float>::infinity();
+        if (unbounded[j]) b.min.y = -std::numeric_limits<float>::infinity();
+        bool const one_dynamic = kind[i] == ProxyKind::dynamic || kind[j] == ProxyKind::dynamic;
+        if (one_dynamic && overlap(a, b) && keep(i, j)) brute.push_back(body_pair_key(i, j));
       }
     INFO("step " << step);
     REQUIRE(pairs == brute);
-    REQUIRE(bvh.static_tree().validate() == "");
-    REQUIRE(bvh.moving_tree().validate() == "");
+    for (AabbTree const* t : bvh.trees())
+      REQUIRE(t->validate() == "");
+    REQUIRE(bvh.candidate_count() >= pairs.size());
   }
-  CHECK(bvh.moving_tree().size() + bvh.static_tree().size() <= n);
+  std::size_t in_trees = 0;
+  for (AabbTree const* t : bvh.trees())
+    in_trees += t->size();
+  CHECK(in_trees + bvh.unbounded().size() <= n);
+  // Statics and creeping bodies query nothing: fewer queries than bodies per call.
+  CHECK(queries < calls * n * 3 / 4);
+}
+
+TEST_CASE("bvh broad phase: a body that stays inside its fat box queries nothing",
+          "[world][broad-phase]") {
+  BvhBroadPhase bvh;
+  std::vector<std::uint64_t> pairs;
+  auto const keep = [](std::uint32_t, std::uint32_t) { return true; };
+  auto const unit = [](Vec3 lo) { return Aabb3{lo, lo + Vec3::splat(1.0f)}; };
+  bvh.set_box(0, unit({0, 0, 0}), ProxyKind::static_body);
+  bvh.set_box(1, unit({0.5f, 0, 0}), ProxyKind::dynamic);
+  bvh.set_box(2, unit({5, 0, 0}), ProxyKind::kinematic);
+  bvh.set_box(3, unit({5.5f, 0, 0}), ProxyKind::static_body); // kinematic-static: no pair
+  bvh.find_pairs(keep, pairs);
+  CHECK(bvh.last_query_count() == 4);
+  CHECK(pairs == std::vector<std::uint64_t>{body_pair_key(0, 1)});
+  // Inside the fat boxes (margin 0.05): no query, the same pair.
+  bvh.set_box(1, unit({0.52f, 0.01f, 0}), ProxyKind::dynamic);
+  bvh.set_box(2, unit({5.03f, 0, 0}), ProxyKind::kinematic);
+  bvh.find_pairs(keep, pairs);
+  CHECK(bvh.last_query_count() == 0);
+  CHECK(pairs == std::vector<std::uint64_t>{body_pair_key(0, 1)});
+  // Out of it: one query, and the pair ends when the boxes part.
+  bvh.set_box(1, unit({1.2f, 0, 0}), ProxyKind::dynamic);
+  bvh.find_pairs(keep, pairs);
+  CHECK(bvh.last_query_count() == 1);
+  CHECK(pairs.empty());
+  CHECK(bvh.candidate_count() == 0);
+  // A kind change counts as a move: the kinematic body turned dynamic meets the static one.
+  bvh.set_box(2, unit({5.03f, 0, 0}), ProxyKind::dynamic);
+  bvh.find_pairs(keep, pairs);
+  CHECK(bvh.last_query_count() == 1);
+  CHECK(pairs == std::vector<std::uint64_t>{body_pair_key(2, 3)});
+  // And back: a kinematic body and a static one make no pair, though their boxes overlap.
+  bvh.set_box(2, unit({5.03f, 0, 0}), ProxyKind::kinematic);
+  bvh.find_pairs(keep, pairs);
+  CHECK(pairs.empty());
+  CHECK(bvh.candidate_count() == 0);
+  // Removing a body ends its pairs.
+  bvh.set_box(2, unit({5.03f, 0, 0}), ProxyKind::dynamic);
+  bvh.find_pairs(keep, pairs);
+  CHECK(pairs == std::vector<std::uint64_t>{body_pair_key(2, 3)});
+  bvh.remove(3);
+  bvh.find_pairs(keep, pairs);
+  CHECK(pairs.empty());
+  CHECK(bvh.candidate_count() == 0);
+  // An unbounded dynamic body that stays put is found by a kinematic body moving into it.
+  Aabb3 slab = unit({20, 0, 0});
+  slab.min.y = -std::numeric_limits<float>::infinity();
+  bvh.set_box(4, slab, ProxyKind::dynamic);
+  bvh.set_box(5, unit({30, 0, 0}), ProxyKind::kinematic);
+  bvh.find_pairs(keep, pairs);
+  CHECK(pairs.empty());
+  bvh.set_box(4, slab, ProxyKind::dynamic); // unchanged: no query
+  bvh.set_box(5, unit({20.5f, -3, 0}), ProxyKind::kinematic);
+  bvh.find_pairs(keep, pairs);
+  CHECK(bvh.last_query_count() == 1);
+  CHECK(pairs == std::vector<std::uint64_t>{body_pair_key(4, 5)});
 }
 
 TEST_CASE("world: the BVH and sort-and-sweep broad phases give the same world, bit for bit",

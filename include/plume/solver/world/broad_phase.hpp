@@ -3,14 +3,18 @@
 // sorted body_pair_key()s), chosen by WorldConfig::broad_phase:
 //
 // BvhBroadPhase (the default) keeps the bodies in bounding volume hierarchies
-// (spatial/aabb_tree.hpp): one tree for static bodies, one for kinematic and dynamic ones,
-// and a list of unbounded bodies (half-spaces: a box with an infinite coordinate). Each step
-// only the moving bodies' boxes are updated (a leaf moves when its box leaves the fat box,
-// grown by the tree's margin), each querying body (dynamic or kinematic, not frozen) asks
-// the static tree (dynamic bodies only), the moving tree and the unbounded list, and every
-// candidate is checked on the exact boxes. A static body costs nothing per step; the static
-// tree is rebuilt (binned SAH) only in a step after static bodies were added or moved, and the
-// moving tree is optimised each step (TreeOptimization::adaptive).
+// (spatial/aabb_tree.hpp), one per kind as Avian's: static, kinematic and dynamic, and a list of
+// unbounded bodies (half-spaces: a box with an infinite coordinate). Pairs persist between
+// steps, as Box2D v3's: a candidate pair is kept while the two fat boxes (a tree leaf's box,
+// grown by the tree's margin; an unbounded body's own box) overlap, and only bodies whose fat
+// box changed this step (moved out of it, new, or of a new kind) query the trees for new
+// candidates: a dynamic body asks every tree and the unbounded list, any other body the
+// dynamic tree and the unbounded dynamic bodies. A body that stays inside its fat box, static
+// or not, costs one exact box test per candidate pair and no query. Each step's pairs are the
+// candidates whose exact boxes overlap and that keep() accepts, so they are the same as a
+// brute-force loop's. The static tree is rebuilt (binned SAH) only in a step after static
+// bodies were added or moved; the kinematic and dynamic trees are optimised each step
+// (TreeOptimization::adaptive).
 //
 // SortAndSweep sorts the boxes on their minimum x (ties by body index) and sweeps: each box
 // is tested against the following boxes whose minimum x is at most its maximum x. Cost
@@ -27,6 +31,7 @@
 #include <plume/spatial/aabb_tree.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -74,89 +79,87 @@ private:
   std::vector<Proxy> proxies_; ///< the boxes by (min.x, index)
 };
 
+/// What a body is to the BVH broad phase: which tree holds it and what it pairs with (a pair
+/// needs at least one dynamic body; the caller's keep() refines that, e.g. for frozen bodies).
+enum class ProxyKind : std::uint8_t { static_body, kinematic, dynamic };
+
 /// The BVH broad phase (see above), over bodies numbered by the world's slots.
 class BvhBroadPhase {
 public:
   BvhBroadPhase();
 
   std::size_t body_count() const noexcept { return slots_.size(); }
-  /// Body `index` leaves the broad phase (nothing if it is not in it).
+  /// Body `index` leaves the broad phase and its pairs (nothing if it is not in it).
   void remove(std::uint32_t index);
-  /// Body `index` now has the (grown) box `box`; `moving`: kinematic or dynamic. A box that
-  /// is not a valid tree box (an infinite coordinate, as a half-space's; or NaN, or min > max)
-  /// puts the body on the unbounded list: it never queries, and each querier tests it exactly.
-  void set_box(std::uint32_t index, Aabb3 const& box, bool moving);
-  /// The pairs (i, j) whose boxes overlap and for which keep(i, j) holds, found from the
-  /// querying bodies (dynamic ones, which ask every tree, and kinematic ones, which skip the
-  /// static tree; frozen bodies query nothing), as body_pair_key()s in increasing order,
-  /// written to `pairs` (cleared first). Optimises the trees first.
+  /// Body `index` now has the (grown) box `box` and kind `kind`. A box that is not a valid
+  /// tree box (an infinite coordinate, as a half-space's; or NaN, or min > max) puts the body
+  /// on the unbounded list instead of a tree. The body counts as moved (find_pairs() queries
+  /// for it) when it is new, changes kind or its box leaves its tree's fat box.
+  void set_box(std::uint32_t index, Aabb3 const& box, ProxyKind kind);
+  /// The pairs (i, j) whose boxes overlap, at least one of them dynamic, for which keep(i, j)
+  /// holds, as body_pair_key()s in increasing order, written to `pairs` (cleared first).
+  /// Optimises the trees first; then queries the trees for the moved bodies only.
   template <class Keep>
-  void find_pairs(std::span<std::uint32_t const> dynamic, std::span<std::uint32_t const> kinematic,
-                  Keep&& keep, std::vector<std::uint64_t>& pairs);
+  void find_pairs(Keep&& keep, std::vector<std::uint64_t>& pairs);
 
   /// The box body `index` last got (the exact box the pairs are checked on).
   Aabb3 const& box(std::uint32_t index) const { return slots_.at(index).box; }
   /// The bodies on the unbounded list, by index.
   std::span<std::uint32_t const> unbounded() const noexcept { return unbounded_; }
-  AabbTree const& static_tree() const noexcept { return static_; }
-  AabbTree const& moving_tree() const noexcept { return moving_; }
-  /// What the moving tree's last optimisation ran.
-  TreeOptimization last_optimization() const noexcept { return last_; }
+  AabbTree const& tree(ProxyKind kind) const noexcept { return trees_[std::size_t(kind)]; }
+  /// The three trees (static, kinematic, dynamic), for queries over every body.
+  std::array<AabbTree const*, 3> trees() const noexcept {
+    return {&trees_[0], &trees_[1], &trees_[2]};
+  }
+  /// What the last optimisation of the kinematic and dynamic trees ran.
+  TreeOptimization last_optimization(ProxyKind kind) const noexcept {
+    return last_[std::size_t(kind)];
+  }
+  /// Candidate pairs kept between steps (fat boxes overlapping, at least one dynamic body).
+  std::size_t candidate_count() const noexcept { return candidates_.size(); }
+  /// Bodies queried by the last find_pairs() (the moved ones).
+  std::size_t last_query_count() const noexcept { return last_queries_; }
 
-  /// Rebuilds the static tree if statics changed, optimises the moving tree (find_pairs
-  /// does this first; call it when the trees serve queries only).
+  /// Rebuilds the static tree if statics changed, optimises the kinematic and dynamic trees
+  /// (find_pairs does this first; call it when the trees serve queries only).
   void optimize();
 
 private:
-  enum class Where : std::uint8_t { none, static_tree, moving_tree, unbounded };
   struct Slot {
-    Where where = Where::none;
+    bool live = false, unbounded = false;
+    ProxyKind kind = ProxyKind::static_body;
     ProxyId proxy = null_proxy;
     Aabb3 box;
   };
+  AabbTree& tree_of(Slot const& s) noexcept { return trees_[std::size_t(s.kind)]; }
+  /// The box a body's pairs are kept on: its tree's fat box, or its box when unbounded.
+  Aabb3 const& fat(std::uint32_t i) const {
+    Slot const& s = slots_[i];
+    return s.unbounded ? s.box : trees_[std::size_t(s.kind)].fat_box(s.proxy);
+  }
+  void mark_moved(std::uint32_t i);
+  void update_candidates();
 
-  AabbTree static_, moving_;
+  std::array<AabbTree, 3> trees_; ///< by ProxyKind
   std::vector<Slot> slots_;
   std::vector<std::uint32_t> unbounded_;
-  std::vector<char> querier_;
+  std::vector<std::uint32_t> moved_;              ///< bodies to query for new pairs, each once
+  std::vector<char> is_moved_;                    ///< by body: in moved_
+  std::vector<std::uint64_t> candidates_, fresh_; ///< sorted keys; this step's new ones
+  std::size_t last_queries_ = 0;
   bool static_changed_ = false;
-  TreeOptimization last_ = TreeOptimization::reinsert;
+  std::array<TreeOptimization, 3> last_{};
 };
 
 template <class Keep>
-void BvhBroadPhase::find_pairs(std::span<std::uint32_t const> dynamic,
-                               std::span<std::uint32_t const> kinematic, Keep&& keep,
-                               std::vector<std::uint64_t>& pairs) {
+void BvhBroadPhase::find_pairs(Keep&& keep, std::vector<std::uint64_t>& pairs) {
   optimize();
+  update_candidates();
   pairs.clear();
-  querier_.assign(slots_.size(), 0);
-  for (auto const list : {dynamic, kinematic})
-    for (std::uint32_t i : list)
-      if (slots_[i].where == Where::moving_tree) querier_[i] = 1;
-  auto const query_from = [&](std::uint32_t i, bool ask_static) {
-    if (!querier_[i]) return;
-    Aabb3 const& box = slots_[i].box;
-    auto const consider = [&](std::uint32_t j) {
-      if (bool(box.intersects(slots_[j].box)) && keep(i, j)) pairs.push_back(body_pair_key(i, j));
-    };
-    if (ask_static)
-      static_.query(box, [&](ProxyId p) {
-        consider(std::uint32_t(static_.user(p)));
-        return true;
-      });
-    moving_.query(box, [&](ProxyId p) {
-      std::uint32_t const j = std::uint32_t(moving_.user(p));
-      if (j != i && (!querier_[j] || i < j)) consider(j); // a pair of queriers once
-      return true;
-    });
-    for (std::uint32_t j : unbounded_)
-      consider(j);
-  };
-  for (std::uint32_t i : dynamic)
-    query_from(i, true);
-  for (std::uint32_t i : kinematic)
-    query_from(i, false);
-  std::sort(pairs.begin(), pairs.end());
+  for (std::uint64_t k : candidates_) {
+    std::uint32_t const i = body_pair_first(k), j = body_pair_second(k);
+    if (bool(slots_[i].box.intersects(slots_[j].box)) && keep(i, j)) pairs.push_back(k);
+  }
 }
 
 } // namespace plume

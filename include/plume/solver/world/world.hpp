@@ -489,7 +489,6 @@ private:
   std::vector<std::uint32_t> moving_bodies_; ///< every kinematic and dynamic body, by index
   mutable std::vector<std::uint32_t>
       stale_statics_; ///< statics created or moved since the last sync
-  std::vector<std::uint32_t> dynamic_queriers_, kinematic_queriers_;
   std::vector<std::uint64_t> pairs_; ///< this step's overlapping pairs (body_pair_key)
   std::vector<PairManifold> found_;  ///< this step's manifolds, by pair
   ContactCache cache_;
