@@ -7,6 +7,13 @@
 // centre, stepped with the widest batch. The dynamic work is the same for every N, so the
 // BVH's step time should not grow with N; sort and sweep sorts every body every step.
 //
+// Batch ray casts into the world (world_ray_batch/<rays>/plume/x<W>, items = rays): 4,096
+// rays into the settled 40,000-static scene, through World::ray_cast_with<T> (x1: float, one
+// ray at a time), so W rays walk the trees and are cast against a shape together. `fans`:
+// 64 fans of 64 rays from one point each (probes, a shotgun, a sensor sweep); `random`: each
+// ray from its own point, in its own direction. `loop`: World::ray_cast per ray (the
+// baseline).
+//
 // Every benchmark starts from the same settled world (60 steps after building the scene,
 // copied), so the widths do the same work; the solver-stage figures use the world's own
 // stage timer (StepProfile) as Google Benchmark's manual time.
@@ -15,7 +22,10 @@
 #include <fixtures/scenes.hpp>
 #include <plume/solver/world/world.hpp>
 
+#include <algorithm>
 #include <map>
+#include <optional>
+#include <random>
 #include <string>
 
 using namespace plume;
@@ -108,6 +118,50 @@ void register_static_scene(int side, BroadPhaseKind kind) {
   })->Unit(benchmark::kMicrosecond);
 }
 
+/// 4,096 rays from above the static scene's grid, downward: fans of 64 or independent ones.
+std::vector<Ray3> batch_rays(bool fans) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> at(-90.0f, 90.0f), tilt(-0.6f, 0.6f);
+  std::vector<Ray3> rays;
+  Vec3 from{};
+  for (int k = 0; k < 4096; ++k) {
+    if (!fans || k % 64 == 0) from = {at(rng), 4.0f, at(rng)};
+    rays.push_back({from, Vec3{tilt(rng), -1.0f, tilt(rng)}});
+  }
+  return rays;
+}
+
+template <class T>
+void register_ray_batch(bool fans) {
+  std::string const name = std::string("world_ray_batch/") + (fans ? "fans" : "random") +
+                           "/plume/x" + std::to_string(lanes_v<T>);
+  benchmark::RegisterBenchmark(name.c_str(), [fans](benchmark::State& st) {
+    World const& world = settled_static_scene(200, BroadPhaseKind::bvh);
+    std::vector<Ray3> const rays = batch_rays(fans);
+    std::vector<std::optional<WorldRayHit>> out(rays.size());
+    plume::bench::run_items(st, std::int64_t(rays.size()),
+                            [&] { world.ray_cast_with<T>(rays, 50.0f, out); });
+    st.counters["hit"] =
+        double(std::count_if(out.begin(), out.end(), [](auto const& h) { return bool(h); })) /
+        double(out.size());
+  })->Unit(benchmark::kMicrosecond);
+}
+
+/// The baseline: the single-ray World::ray_cast in a loop (world_ray_batch/<rays>/plume/loop).
+void register_ray_loop(bool fans) {
+  std::string const name =
+      std::string("world_ray_batch/") + (fans ? "fans" : "random") + "/plume/loop";
+  benchmark::RegisterBenchmark(name.c_str(), [fans](benchmark::State& st) {
+    World const& world = settled_static_scene(200, BroadPhaseKind::bvh);
+    std::vector<Ray3> const rays = batch_rays(fans);
+    std::vector<std::optional<WorldRayHit>> out(rays.size());
+    plume::bench::run_items(st, std::int64_t(rays.size()), [&] {
+      for (std::size_t k = 0; k < rays.size(); ++k)
+        out[k] = world.ray_cast(rays[k], 50.0f);
+    });
+  })->Unit(benchmark::kMicrosecond);
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -116,5 +170,9 @@ int main(int argc, char** argv) {
   for (int side : {200, 20})
     for (BroadPhaseKind kind : {BroadPhaseKind::bvh, BroadPhaseKind::sort_and_sweep})
       register_static_scene(side, kind);
+  for (bool fans : {true, false}) {
+    plume::bench::for_each_f32_width([&]<class T>() { register_ray_batch<T>(fans); });
+    register_ray_loop(fans);
+  }
   return plume::bench::run_benchmarks(argc, argv);
 }

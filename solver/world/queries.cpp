@@ -3,8 +3,11 @@
 #include <plume/solver/world/world.hpp>
 
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 
 namespace plume {
 
@@ -175,10 +178,129 @@ std::optional<WorldRayHit> World::ray_cast(Ray3 const& ray, float max_toi,
 
 void World::ray_cast(std::span<Ray3 const> rays, float max_toi,
                      std::span<std::optional<WorldRayHit>> out, QueryFilter const& filter) const {
-  std::size_t const n = std::min(rays.size(), out.size());
-  for (std::size_t k = 0; k < n; ++k)
-    out[k] = ray_cast(rays[k], max_toi, filter);
+  ray_cast_with<f32xN>(rays, max_toi, out, filter);
 }
+
+namespace {
+/// A body's shape in every lane of T (the shapes the batch ray cast runs wide).
+template <class T>
+GSphere<T> widen(Sphere const& s) {
+  return {T(s.radius)};
+}
+template <class T>
+GCapsule<T> widen(Capsule const& s) {
+  return {T(s.half_height), T(s.radius)};
+}
+template <class T>
+GCuboid<T> widen(Cuboid const& s) {
+  return {GVec3<T>(s.half_extents)};
+}
+template <class T>
+GCylinder<T> widen(Cylinder const& s) {
+  return {T(s.half_height), T(s.radius)};
+}
+template <class T>
+GHalfSpace<T> widen(HalfSpace const& s) {
+  return {GVec3<T>(s.normal)};
+}
+} // namespace
+
+template <class T>
+void World::ray_cast_with(std::span<Ray3 const> rays, float max_toi,
+                          std::span<std::optional<WorldRayHit>> out,
+                          QueryFilter const& filter) const {
+  if (out.size() != rays.size())
+    throw std::invalid_argument("World::ray_cast: out and rays differ in length");
+  constexpr std::size_t W = lanes_v<T>;
+  sync_trees();
+  float const limit0 = std::min(max_toi, big);
+  for (std::size_t first = 0; first < rays.size(); first += W) {
+    std::size_t const n = std::min(W, rays.size() - first);
+    // The packet: unusable rays and the tail's empty lanes take no part (limit -1) and carry
+    // a harmless ray.
+    std::array<Vec3, W> origin, dir;
+    alignas(64) std::array<float, W> limit;
+    for (std::size_t k = 0; k < W; ++k) {
+      bool const live = k < n && usable(rays[first + k], max_toi);
+      origin[k] = live ? rays[first + k].origin : Vec3{};
+      dir[k] = live ? rays[first + k].dir : Vec3::Y;
+      limit[k] = live ? limit0 : -1.0f;
+    }
+    GRay3<T> const packet{pack<T>(origin.data()), pack<T>(dir.data())};
+    std::array<std::uint32_t, W> best_body;
+    std::array<float, W> best_toi;
+    std::array<Vec3, W> best_normal;
+    best_body.fill(~std::uint32_t(0));
+    // The single form's rule, per lane: a hit within the lane's limit that is nearer, or as
+    // near on a lower body index, becomes the best and the new limit.
+    auto const offer = [&](std::size_t k, std::uint32_t i, float toi, Vec3 const& normal) {
+      if (toi > limit[k]) return;
+      if (best_body[k] != ~std::uint32_t(0) &&
+          (toi > best_toi[k] || (toi == best_toi[k] && i > best_body[k])))
+        return;
+      best_body[k] = i;
+      best_toi[k] = toi;
+      best_normal[k] = normal;
+      limit[k] = toi;
+    };
+    auto const test = [&](std::uint32_t i, std::uint64_t lanes) {
+      if (!passes(i, filter)) return;
+      Body const& b = bodies_[i];
+      std::visit(
+          [&](auto const& s) {
+            using S = std::decay_t<decltype(s)>;
+            if constexpr (is_triangle_shape_v<S> || std::is_same_v<S, ConvexHull>) {
+              // Lane by lane, as the single form (a hull's support walks its own edges).
+              for (std::uint64_t m = lanes; m; m &= m - 1) {
+                auto const k = std::size_t(std::countr_zero(m));
+                RayHit const h = cast_ray(b.shape, b.pose, {origin[k], dir[k]}, limit[k]);
+                if (h.hit) offer(k, i, h.toi, h.normal);
+              }
+            } else {
+              GIso3<T> const pose(b.pose);
+              T const lim = plume::load_aligned<T>(limit.data());
+              GRayHit<T> const h = plume::ray_cast(widen<T>(s), pose, packet, lim);
+              alignas(64) std::array<float, W> toi, nx, ny, nz;
+              plume::store_aligned(toi.data(), h.toi);
+              plume::store_aligned(nx.data(), h.normal.x);
+              plume::store_aligned(ny.data(), h.normal.y);
+              plume::store_aligned(nz.data(), h.normal.z);
+              for (std::uint64_t m = lanes & plume::bitmask(h.hit); m; m &= m - 1) {
+                auto const k = std::size_t(std::countr_zero(m));
+                offer(k, i, toi[k], {nx[k], ny[k], nz[k]});
+              }
+            }
+          },
+          b.shape);
+    };
+    T lim = plume::load_aligned<T>(limit.data());
+    for (AabbTree const* tree : bvh_.trees())
+      tree->ray_query_lanes(packet, lim, [&](ProxyId p, std::uint64_t lanes) {
+        test(std::uint32_t(tree->user(p)), lanes);
+        lim = plume::load_aligned<T>(limit.data());
+      });
+    std::uint64_t all = 0;
+    for (std::size_t k = 0; k < W; ++k)
+      all |= limit[k] >= 0.0f ? std::uint64_t(1) << k : 0;
+    for (std::uint32_t i : bvh_.unbounded())
+      test(i, all);
+    for (std::size_t k = 0; k < n; ++k) {
+      auto& o = out[first + k];
+      o.reset();
+      if (best_body[k] == ~std::uint32_t(0)) continue;
+      Ray3 const& ray = rays[first + k];
+      std::uint32_t const i = best_body[k];
+      o = WorldRayHit{BodyId{i, bodies_[i].generation}, best_toi[k], ray.at(best_toi[k]),
+                      best_normal[k]};
+    }
+  }
+}
+
+#define PLUME_INSTANTIATE_RAYS(T, lanes)                                                           \
+  template void World::ray_cast_with<T>(std::span<Ray3 const>, float,                              \
+                                        std::span<std::optional<WorldRayHit>>, QueryFilter const&) \
+      const;
+PLUME_FOR_EACH_F32_TYPE(PLUME_INSTANTIATE_RAYS)
 
 // ------------------------------------------------------------------------ shapes
 

@@ -925,3 +925,54 @@ TEMPLATE_TEST_CASE("tree: PLOC builds valid, exact, balanced trees close to binn
     REQUIRE(same_box(a.nodes()[k].box, b.nodes()[k].box));
   }
 }
+
+TEST_CASE("tree: a packet of rays meets, lane by lane, the leaves each ray meets alone",
+          "[spatial][tree][lanes]") {
+  std::mt19937 g(77);
+  GAabbTree<float> tree;
+  for (int i = 0; i < 600; ++i)
+    tree.insert(random_box<float>(g, 20, 3));
+  float const inf = std::numeric_limits<float>::infinity();
+  float const nan = std::numeric_limits<float>::quiet_NaN();
+  auto const check = [&]<class T>() {
+    constexpr std::size_t W = lanes_v<T>;
+    for (int packet = 0; packet < 60; ++packet) {
+      std::array<Vec3, W> o, d;
+      alignas(64) std::array<float, W> limit;
+      Vec3 const near = random_point<float>(g, -20, 20);
+      for (std::size_t k = 0; k < W; ++k) {
+        GRay3<float> const r = random_ray<float>(g, 20);
+        o[k] = packet % 2 ? near : r.origin; // coherent packets share an origin
+        d[k] = r.dir;
+        if (g() % 6 == 0) d[k].x = -0.0f; // signed zeros on every axis
+        if (g() % 6 == 0) d[k].y = g() % 2 ? -0.0f : 0.0f;
+        if (d[k].x == 0.0f && d[k].y == 0.0f && d[k].z == 0.0f) d[k].z = 1.0f;
+        limit[k] = k % 5 == 4 ? inf : float(g() % 40);
+      }
+      if (packet % 7 == 3) { // unusable lanes: zero direction, NaN origin, NaN or negative limit
+        d[0] = Vec3{};
+        if (W > 1) o[1].y = nan;
+        if (W > 2) limit[2] = nan;
+        if (W > 3) limit[3] = -1.0f;
+      }
+      std::array<std::vector<ProxyId>, W> got;
+      T lim = load_aligned<T>(limit.data());
+      tree.ray_query_lanes(GRay3<T>{pack<T>(o.data()), pack<T>(d.data())}, lim,
+                           [&](ProxyId id, std::uint64_t lanes) {
+                             for (std::size_t k = 0; k < W; ++k)
+                               if (lanes >> k & 1) got[k].push_back(id);
+                           });
+      for (std::size_t k = 0; k < W; ++k) {
+        std::vector<ProxyId> want;
+        tree.ray_query(GRay3<float>{o[k], d[k]}, limit[k], [&](ProxyId id, float) {
+          want.push_back(id);
+          return limit[k];
+        });
+        INFO("width " << W << ", packet " << packet << ", lane " << k);
+        CHECK(sorted(got[k]) == sorted(want));
+      }
+    }
+  };
+  check.template operator()<float>();
+  for_each_type<f32_widths>(check);
+}

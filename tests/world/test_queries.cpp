@@ -1,6 +1,9 @@
 // The world's spatial queries against brute force over every body (the shapes' own pair
 // queries at the bodies' poses, no tree), on random scenes of every shape, after steps;
 // filters and collision layers; bad input.
+#include "../common/types.hpp"
+#include "../spatial/mesh_support.hpp"
+
 #include <fixtures/scenes.hpp>
 #include <plume/solver/world/world.hpp>
 
@@ -10,6 +13,8 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <set>
+#include <stdexcept>
 #include <vector>
 
 using namespace plume;
@@ -140,17 +145,124 @@ TEST_CASE("world queries: rays against brute force over every body", "[world][qu
     }
   }
   CHECK(hits > 100);
-  // The batch form is the single form per ray.
+}
+
+TEST_CASE(
+    "world queries: the batch ray cast is the single one per ray, bit for bit, at every width",
+    "[world][queries][determinism]") {
+  // Every shape, a mesh and a height field (lane by lane), a kinematic body; rays in packets
+  // of neighbours (a fan from one point), at random, unusable and filtered; counts that leave
+  // a partial packet.
+  World w = random_scene(5, 120);
+  auto mesh =
+      std::make_shared<TriangleMesh const>(test::make(test::grid(12, 0.5f, test::terrain_height)));
+  w.create_body({.type = BodyType::static_body,
+                 .pose = Iso3::from_translation({-3, 0.5f, -3}),
+                 .shape = MeshShape{mesh}});
+  std::vector<float> heights(9 * 9);
+  for (std::size_t k = 0; k < heights.size(); ++k)
+    heights[k] = 0.3f * std::sin(float(k));
+  auto field = HeightField::build(9, 9, heights, 0.5f, 0.5f);
+  REQUIRE(field.ok());
+  w.create_body(
+      {.type = BodyType::static_body,
+       .pose = Iso3::from_translation({2, 0.8f, 2}),
+       .shape = HeightFieldShape{std::make_shared<HeightField const>(std::move(field.field))}});
+  w.create_body({.type = BodyType::kinematic,
+                 .pose = Iso3::from_translation({0, 3, 0}),
+                 .linear_velocity = {0.5f, 0, 0},
+                 .shape = Cuboid{Vec3{1, 0.2f, 1}}});
+  w.step(1.0f / 60.0f);
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<float> at(-8.0f, 8.0f), unit(-1.0f, 1.0f);
   std::vector<Ray3> rays;
-  for (int k = 0; k < 32; ++k)
-    rays.push_back({{at(rng), 8.0f, at(rng)}, {0.1f * at(rng), -1.0f, 0.1f * at(rng)}});
-  std::vector<std::optional<WorldRayHit>> out(rays.size());
-  w.ray_cast(rays, 20.0f, out);
-  for (std::size_t k = 0; k < rays.size(); ++k) {
-    auto const one = w.ray_cast(rays[k], 20.0f);
-    REQUIRE(out[k].has_value() == one.has_value());
-    if (one) CHECK(out[k]->body == one->body);
+  for (int fan = 0; fan < 12; ++fan) { // fans: coherent packets
+    Vec3 const from{at(rng), 7.0f, at(rng)};
+    for (int k = 0; k < 23; ++k)
+      rays.push_back({from, {0.4f * unit(rng), -1.0f, 0.4f * unit(rng)}});
   }
+  for (int k = 0; k < 150; ++k) // incoherent
+    rays.push_back({{at(rng), 4.0f + 0.5f * at(rng), at(rng)}, {at(rng), at(rng), at(rng)}});
+  float const inf = std::numeric_limits<float>::infinity();
+  rays[3].dir = Vec3{};                                        // a zero direction
+  rays[40].origin.x = std::numeric_limits<float>::quiet_NaN(); // a NaN origin
+  rays[77] = {{0, 2, 0}, {0, -1, 0}};                          // straight down, maybe from inside
+  rays[78] = {{0.5f, 9, 0.5f}, {-0.0f, -1, 0.0f}};             // signed zero components
+  BodyId const skip = w.body_id(7);
+  for (QueryFilter const& filter :
+       {QueryFilter{}, QueryFilter{.exclude = std::span<BodyId const>(&skip, 1)},
+        QueryFilter{.predicate = [](BodyId id) { return id.index % 3 != 0; }}})
+    for (float max_toi : {20.0f, 3.0f, inf}) {
+      std::vector<std::optional<WorldRayHit>> want(rays.size());
+      for (std::size_t k = 0; k < rays.size(); ++k)
+        want[k] = w.ray_cast(rays[k], max_toi, filter);
+      auto const check = [&]<class T>() {
+        std::vector<std::optional<WorldRayHit>> got(rays.size());
+        w.ray_cast_with<T>(rays, max_toi, got, filter);
+        int hits = 0;
+        for (std::size_t k = 0; k < rays.size(); ++k) {
+          INFO("width " << lanes_v<T> << ", ray " << k << ", max_toi " << max_toi);
+          REQUIRE(got[k].has_value() == want[k].has_value());
+          if (!want[k]) continue;
+          ++hits;
+          CHECK(got[k]->body == want[k]->body);
+          CHECK(test::same_bits(got[k]->toi, want[k]->toi));
+          CHECK(test::same_bits(got[k]->point, want[k]->point));
+          CHECK(test::same_bits(got[k]->normal, want[k]->normal));
+        }
+        CHECK(hits > 20);
+      };
+      check.template operator()<float>();
+      for_each_type<test::f32_wide_types>(check);
+      std::vector<std::optional<WorldRayHit>> batch(rays.size());
+      w.ray_cast(rays, max_toi, batch, filter); // the default width
+      for (std::size_t k = 0; k < rays.size(); ++k)
+        CHECK(batch[k].has_value() == want[k].has_value());
+    }
+  // Some of every kind of body are hit (the lanes' casts against each shape, the lane-by-lane
+  // mesh and field).
+  std::vector<std::optional<WorldRayHit>> got(rays.size());
+  w.ray_cast(rays, inf, got);
+  std::set<std::size_t> kinds;
+  for (auto const& h : got)
+    if (h) kinds.insert(w.shape(h->body).index());
+  CHECK(kinds.size() >= 6);
+  // Ties: pairs of bodies with the same shape at the same pose; the lower index wins, whether
+  // it is in the tree walked first (static) or in a later one (kinematic).
+  World t;
+  auto const add = [&](BodyType type, float x) {
+    return t
+        .create_body({.type = type,
+                      .pose = Iso3::from_translation({x, 1, 0}),
+                      .shape = Cuboid{Vec3::splat(0.5f)}})
+        .id;
+  };
+  BodyId const low_kinematic = add(BodyType::kinematic, 0);
+  add(BodyType::static_body, 0);
+  BodyId const low_static = add(BodyType::static_body, 10);
+  add(BodyType::kinematic, 10);
+  std::vector<Ray3> down;
+  for (int k = 0; k < 38; ++k)
+    down.push_back({{0.05f * float(k % 19 - 9) + (k < 19 ? 0.0f : 10.0f), 5, 0.02f * float(k % 19)},
+                    {0, -1, 0}});
+  std::vector<std::optional<WorldRayHit>> tied(down.size());
+  auto const check_ties = [&]<class T>() {
+    t.ray_cast_with<T>(down, 20.0f, tied);
+    for (std::size_t k = 0; k < down.size(); ++k) {
+      REQUIRE(tied[k]);
+      CHECK(tied[k]->body == (k < 19 ? low_kinematic : low_static));
+      CHECK(tied[k]->toi == 3.5f);
+    }
+  };
+  check_ties.template operator()<float>();
+  for_each_type<test::f32_wide_types>(check_ties);
+  // Spans of different lengths: an error, nothing written.
+  std::vector<std::optional<WorldRayHit>> short_out(rays.size() - 1);
+  CHECK_THROWS_AS(w.ray_cast(rays, 20.0f, short_out), std::invalid_argument);
+  CHECK(std::none_of(short_out.begin(), short_out.end(), [](auto const& h) { return h; }));
+  std::vector<Ray3> none;
+  std::vector<std::optional<WorldRayHit>> none_out;
+  w.ray_cast(none, 20.0f, none_out); // empty spans: nothing to do
 }
 
 TEST_CASE("world queries: points, boxes and shapes against brute force", "[world][queries]") {

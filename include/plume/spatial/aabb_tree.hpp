@@ -42,6 +42,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
@@ -174,6 +175,16 @@ public:
   /// with a non-finite origin or direction, or a zero direction, meets nothing.
   template <class F>
   void ray_query(GRay3<S> const& ray, S max_toi, F&& f) const;
+  /// A packet of rays, one per lane of T (S, or a batch of S): f(ProxyId, lanes) for every
+  /// leaf whose fat box the ray of some lane enters within that lane's max_toi, `lanes` being
+  /// the bitmask of those lanes; f may lower lanes of max_toi (a negative one ends the lane).
+  /// Lanes with a negative or NaN max_toi, or an unusable ray (non-finite, zero direction),
+  /// take no part. Each lane's box tests compute what ray_query's do (the same operations, so
+  /// the same entries), so a lane meets every leaf ray_query meets with the same max_toi;
+  /// nodes are visited nearer first by the nearest lane's entry. Coherent rays share the
+  /// nodes' loads and tests; incoherent ones visit the union of their paths.
+  template <Real T, class F>
+  void ray_query_lanes(GRay3<T> const& rays, T& max_toi, F&& f) const;
 
   // ---------------------------------------------------------------- structure
   std::uint32_t root() const noexcept { return root_; }
@@ -351,6 +362,64 @@ void GAabbTree<S>::ray_query(GRay3<S> const& ray, S max_toi, F&& f) const {
     } else if (hl) {
       stack.push_back(node.left);
     } else if (hr) {
+      stack.push_back(node.right);
+    }
+  }
+}
+
+template <Float S>
+template <Real T, class F>
+void GAabbTree<S>::ray_query_lanes(GRay3<T> const& rays, T& max_toi, F&& f) const {
+  static_assert(std::is_same_v<scalar_t<T>, S>, "rays of the tree's scalar type");
+  if (root_ == null_node) return;
+  T const zero_t = zero<T>(), one_t = one<T>();
+  GVec3<T> const d = rays.dir, o = rays.origin;
+  mask_t<T> const usable =
+      detail::ray_valid(rays) & ((d.x != zero_t) | (d.y != zero_t) | (d.z != zero_t));
+  max_toi = plume::select(usable & (max_toi >= zero_t), max_toi, -one_t);
+  GVec3<T> const inv{one_t / d.x, one_t / d.y, one_t / d.z};
+  // Per lane, ray_enters' arithmetic with that lane's signs (inv < 0 is signbit(dir): 1/-0 is
+  // -inf), so every lane's entry and verdict equal the one-ray traversal's.
+  mask_t<T> const nx = inv.x < zero_t, ny = inv.y < zero_t, nz = inv.z < zero_t;
+  auto const enters = [&](Box const& b, T& entry) {
+    T const ex = (plume::select(nx, T(b.max.x), T(b.min.x)) - o.x) * inv.x;
+    T const fx = (plume::select(nx, T(b.min.x), T(b.max.x)) - o.x) * inv.x;
+    T const ey = (plume::select(ny, T(b.max.y), T(b.min.y)) - o.y) * inv.y;
+    T const fy = (plume::select(ny, T(b.min.y), T(b.max.y)) - o.y) * inv.y;
+    T const ez = (plume::select(nz, T(b.max.z), T(b.min.z)) - o.z) * inv.z;
+    T const fz = (plume::select(nz, T(b.min.z), T(b.max.z)) - o.z) * inv.z;
+    T const tn = plume::max_select(ez, plume::max_select(ey, plume::max_select(ex, zero_t)));
+    T const tf = plume::min_select(fz, plume::min_select(fy, plume::min_select(fx, max_toi)));
+    entry = tn;
+    return tn <= tf;
+  };
+  S const inf = std::numeric_limits<S>::infinity();
+  auto const nearest = [&](T const& entry, mask_t<T> const& m) {
+    return plume::reduce_min(plume::select(m, entry, T(inf)));
+  };
+  detail::TraversalStack<std::uint32_t> stack;
+  stack.push_back(root_);
+  while (!stack.empty()) {
+    std::uint32_t const n = stack.pop_back();
+    Node const& node = nodes_[n];
+    T entry;
+    std::uint64_t const bits = plume::bitmask(enters(node.box, entry));
+    if (bits == 0) continue;
+    if (node.is_leaf()) {
+      f(ProxyId(node.proxy), bits);
+      continue;
+    }
+    T el, er;
+    mask_t<T> const ml = enters(nodes_[node.left].box, el);
+    mask_t<T> const mr = enters(nodes_[node.right].box, er);
+    bool const bl = plume::any(ml), br = plume::any(mr);
+    if (bl && br) { // the farther one first, so the nearer is popped first (left on ties)
+      bool const right_first = nearest(er, mr) < nearest(el, ml);
+      stack.push_back(right_first ? node.left : node.right);
+      stack.push_back(right_first ? node.right : node.left);
+    } else if (bl) {
+      stack.push_back(node.left);
+    } else if (br) {
       stack.push_back(node.right);
     }
   }

@@ -364,9 +364,21 @@ public:
   void ray_cast_all(Ray3 const& ray, float max_toi,
                     std::function<bool(WorldRayHit const&)> const& f,
                     QueryFilter const& filter = {}) const;
-  /// One ray_cast per ray (out[i] for rays[i]; out must be as long as rays).
+  /// One ray_cast per ray, out[i] for rays[i] (each out[i] bitwise the single form's), with
+  /// the widest batch the build has: ray_cast_with<f32xN>. std::invalid_argument when out is
+  /// not as long as rays (nothing written).
   void ray_cast(std::span<Ray3 const> rays, float max_toi,
                 std::span<std::optional<WorldRayHit>> out, QueryFilter const& filter = {}) const;
+  /// The batch form, lanes_v<T> rays at a time (T one of float, f32x4, f32x8, f32x16 that the
+  /// build enables): each packet walks the trees together (AabbTree::ray_query_lanes) and
+  /// casts its lanes against a convex shape or half-space in one call of the same template
+  /// as the single form (mesh and height-field bodies: one lane at a time). Packets are
+  /// consecutive rays, so rays that start near each other and point alike (a fan, a grid of
+  /// probes) share most of their walk; incoherent rays gain less (docs/performance.md).
+  template <class T>
+  void ray_cast_with(std::span<Ray3 const> rays, float max_toi,
+                     std::span<std::optional<WorldRayHit>> out,
+                     QueryFilter const& filter = {}) const;
   /// The first body a convex shape (is_convex_shape) at `pose` hits moving by
   /// t * motion, t in [0, cfg.max_toi], with cfg's target distance and penetration rule.
   std::optional<WorldShapeHit> shape_cast(BodyShape const& shape, Iso3 const& pose,
@@ -488,7 +500,7 @@ private:
   std::vector<Aabb3> boxes_;                 ///< sort and sweep: this step's grown AABBs, by body
   std::vector<std::uint32_t> moving_bodies_; ///< every kinematic and dynamic body, by index
   mutable std::vector<std::uint32_t>
-      stale_statics_; ///< statics created or moved since the last sync
+      stale_statics_;                ///< statics created or moved since the last sync
   std::vector<std::uint64_t> pairs_; ///< this step's overlapping pairs (body_pair_key)
   std::vector<PairManifold> found_;  ///< this step's manifolds, by pair
   ContactCache cache_;
