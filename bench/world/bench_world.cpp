@@ -12,7 +12,10 @@
 // ray at a time), so W rays walk the trees and are cast against a shape together. `fans`:
 // 64 fans of 64 rays from one point each (probes, a shotgun, a sensor sweep); `random`: each
 // ray from its own point, in its own direction. `loop`: World::ray_cast per ray (the
-// baseline).
+// baseline). world_shape_cast_batch/<casts>/plume/<x W|loop> (items = casts): 4,096
+// capsules of random sizes (radius 0.2-0.4 m, half height 0.3-0.6 m) moving 1 m sideways and
+// down over the same scene, World::shape_cast_with<T>: `crowd`, 64 groups of 64 within 2 m
+// of each other (a crowd of characters); `random`, each on its own.
 //
 // Every benchmark starts from the same settled world (60 steps after building the scene,
 // copied), so the widths do the same work; the solver-stage figures use the world's own
@@ -147,6 +150,58 @@ void register_ray_batch(bool fans) {
   })->Unit(benchmark::kMicrosecond);
 }
 
+/// 4,096 capsule casts over the static scene: crowds of 64 within 2 m, or independent.
+struct Casts {
+  std::vector<BodyShape> shapes;
+  std::vector<Iso3> poses;
+  std::vector<Vec3> motions;
+};
+Casts batch_casts(bool crowd) {
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<float> at(-90.0f, 90.0f), near(-1.0f, 1.0f), u(0.0f, 1.0f);
+  Casts c;
+  Vec3 centre{};
+  for (int k = 0; k < 4096; ++k) {
+    if (!crowd || k % 64 == 0) centre = {at(rng), 1.6f, at(rng)};
+    c.shapes.push_back(Capsule{0.3f + 0.3f * u(rng), 0.2f + 0.2f * u(rng)});
+    c.poses.push_back(
+        Iso3::from_translation(centre + Vec3{near(rng), 0.2f * near(rng), near(rng)}));
+    c.motions.push_back({near(rng), -0.5f - 0.5f * u(rng), near(rng)});
+  }
+  return c;
+}
+
+template <class T>
+void register_cast_batch(bool crowd) {
+  std::string const name = std::string("world_shape_cast_batch/") + (crowd ? "crowd" : "random") +
+                           "/plume/x" + std::to_string(lanes_v<T>);
+  benchmark::RegisterBenchmark(name.c_str(), [crowd](benchmark::State& st) {
+    World const& world = settled_static_scene(200, BroadPhaseKind::bvh);
+    Casts const c = batch_casts(crowd);
+    std::vector<std::optional<WorldShapeHit>> out(c.shapes.size());
+    plume::bench::run_items(st, std::int64_t(c.shapes.size()), [&] {
+      world.shape_cast_with<T>(c.shapes, c.poses, c.motions, ShapeCastConfig{}, out);
+    });
+    st.counters["hit"] =
+        double(std::count_if(out.begin(), out.end(), [](auto const& h) { return bool(h); })) /
+        double(out.size());
+  })->Unit(benchmark::kMicrosecond);
+}
+
+void register_cast_loop(bool crowd) {
+  std::string const name =
+      std::string("world_shape_cast_batch/") + (crowd ? "crowd" : "random") + "/plume/loop";
+  benchmark::RegisterBenchmark(name.c_str(), [crowd](benchmark::State& st) {
+    World const& world = settled_static_scene(200, BroadPhaseKind::bvh);
+    Casts const c = batch_casts(crowd);
+    std::vector<std::optional<WorldShapeHit>> out(c.shapes.size());
+    plume::bench::run_items(st, std::int64_t(c.shapes.size()), [&] {
+      for (std::size_t k = 0; k < c.shapes.size(); ++k)
+        out[k] = world.shape_cast(c.shapes[k], c.poses[k], c.motions[k]);
+    });
+  })->Unit(benchmark::kMicrosecond);
+}
+
 /// The baseline: the single-ray World::ray_cast in a loop (world_ray_batch/<rays>/plume/loop).
 void register_ray_loop(bool fans) {
   std::string const name =
@@ -173,6 +228,8 @@ int main(int argc, char** argv) {
   for (bool fans : {true, false}) {
     plume::bench::for_each_f32_width([&]<class T>() { register_ray_batch<T>(fans); });
     register_ray_loop(fans);
+    plume::bench::for_each_f32_width([&]<class T>() { register_cast_batch<T>(fans); });
+    register_cast_loop(fans);
   }
   return plume::bench::run_benchmarks(argc, argv);
 }

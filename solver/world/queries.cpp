@@ -304,73 +304,277 @@ PLUME_FOR_EACH_F32_TYPE(PLUME_INSTANTIATE_RAYS)
 
 // ------------------------------------------------------------------------ shapes
 
+namespace {
+
+/// The inputs every shape cast needs: a finite pose and motion, finite non-negative max_toi
+/// and target distance.
+bool usable_cast(Iso3 const& pose, Vec3 const& motion, ShapeCastConfig const& cfg) {
+  return pose.is_finite() && bool(motion.is_finite()) && cfg.max_toi >= 0.0f &&
+         std::isfinite(cfg.max_toi) && cfg.target_distance >= 0.0f &&
+         std::isfinite(cfg.target_distance);
+}
+
+/// The box a cast's candidates are found in: the shape's boxes at both ends, grown by the
+/// target distance.
+template <class Q>
+Aabb3 swept_box(Q const& q, Iso3 const& pose, Vec3 const& motion, ShapeCastConfig const& cfg) {
+  Aabb3 const start = q.aabb(pose);
+  Aabb3 const end = q.aabb(Iso3{pose.rotation, pose.translation + motion * cfg.max_toi});
+  return start.merge(end).grow(cfg.target_distance);
+}
+
+/// The convex shape q at `pose`, moving by t motion, against one body's shape at body_pose
+/// (hit: toi, the point on the body, the normal out of it; the body id is the caller's).
+template <class Q>
+std::optional<WorldShapeHit> cast_against_body(BodyShape const& body, Iso3 const& body_pose,
+                                               Q const& q, Iso3 const& pose, Vec3 const& motion,
+                                               ShapeCastConfig const& cfg) {
+  WorldShapeHit h{};
+  bool hit = false;
+  if (auto const* hs = std::get_if<HalfSpace>(&body)) {
+    WorldPlane const plane = world_plane(*hs, body_pose);
+    Vec3 const deepest = support_world(q, pose, -plane.normal);
+    float const gap = plane.height(deepest) - cfg.target_distance;
+    float const closing = -plane.normal.dot(motion);
+    if (gap <= 0.0f) {
+      // As the GJK cast: a start in contact is ignored when the motion leaves the plane
+      // or runs along it within 1e-3 rad.
+      hit = cfg.stop_at_penetration || closing * closing > 1e-6f * motion.dot(motion);
+      hit = hit && (cfg.stop_at_penetration || closing > 0.0f);
+      h.toi = 0.0f;
+      h.penetrating = true;
+    } else if (closing > 0.0f && gap <= closing * cfg.max_toi) {
+      hit = true;
+      h.toi = gap / closing;
+    }
+    Vec3 const at = deepest + motion * h.toi;
+    h.point = at - plane.normal * plane.height(at);
+    h.normal = plane.normal;
+  } else {
+    std::visit(
+        [&](auto const& s) {
+          using S = std::decay_t<decltype(s)>;
+          if constexpr (is_triangle_shape_v<S>) {
+            MeshShapeHit const c = mesh_shape_cast(*s.source(), body_pose, q, pose, motion, cfg);
+            if (!c.hit()) return;
+            hit = true;
+            h.toi = c.toi;
+            h.point = c.point;
+            h.normal = c.normal;
+            h.penetrating = c.penetrating;
+          } else if constexpr (!std::is_same_v<S, HalfSpace>) {
+            ShapeCastHit const c = plume::shape_cast(q, pose, motion, s, body_pose, cfg);
+            if (!c.hit || c.failed) return;
+            hit = true;
+            h.toi = c.toi;
+            h.point = c.point_b;
+            h.normal = -c.normal; // out of the body, toward the cast shape
+            h.penetrating = bool(c.penetrating);
+          }
+        },
+        body);
+  }
+  if (!hit) return {};
+  return h;
+}
+
+/// The shapes a batch cast packs into lanes (one kind per packet), and the body shapes it
+/// casts against in lanes (the others go lane by lane).
+template <class S>
+inline constexpr bool lane_shape_v = std::is_same_v<S, Sphere> || std::is_same_v<S, Capsule> ||
+                                     std::is_same_v<S, Cuboid> || std::is_same_v<S, Cylinder>;
+
+template <class T, std::size_t W>
+T lanes_of(std::array<float, W> const& a) {
+  alignas(64) std::array<float, W> b = a;
+  return plume::load_aligned<T>(b.data());
+}
+
+/// Lanes [0, W) of shapes of kind S (lanes past n repeat lane 0).
+template <class T, class S, std::size_t W>
+auto pack_shapes(BodyShape const* shapes, std::size_t n) {
+  auto const at = [&](std::size_t k) -> S const& { return std::get<S>(shapes[k < n ? k : 0]); };
+  std::array<float, W> a{}, b{}, c{};
+  for (std::size_t k = 0; k < W; ++k) {
+    if constexpr (std::is_same_v<S, Sphere>) {
+      a[k] = at(k).radius;
+    } else if constexpr (std::is_same_v<S, Cuboid>) {
+      a[k] = at(k).half_extents.x;
+      b[k] = at(k).half_extents.y;
+      c[k] = at(k).half_extents.z;
+    } else {
+      a[k] = at(k).half_height;
+      b[k] = at(k).radius;
+    }
+  }
+  if constexpr (std::is_same_v<S, Sphere>)
+    return GSphere<T>{lanes_of<T>(a)};
+  else if constexpr (std::is_same_v<S, Cuboid>)
+    return GCuboid<T>{GVec3<T>{lanes_of<T>(a), lanes_of<T>(b), lanes_of<T>(c)}};
+  else if constexpr (std::is_same_v<S, Capsule>)
+    return GCapsule<T>{lanes_of<T>(a), lanes_of<T>(b)};
+  else
+    return GCylinder<T>{lanes_of<T>(a), lanes_of<T>(b)};
+}
+
+} // namespace
+
 std::optional<WorldShapeHit> World::shape_cast(BodyShape const& shape, Iso3 const& pose,
                                                Vec3 const& motion, ShapeCastConfig const& cfg,
                                                QueryFilter const& filter) const {
-  if (!pose.is_finite() || !bool(motion.is_finite()) || !(cfg.max_toi >= 0.0f) ||
-      !std::isfinite(cfg.max_toi) || !(cfg.target_distance >= 0.0f) ||
-      !std::isfinite(cfg.target_distance))
-    return {};
+  if (!usable_cast(pose, motion, cfg)) return {};
   return with_convex(shape, [&](auto const& q, bool convex) -> std::optional<WorldShapeHit> {
     if (!convex) return {};
-    Aabb3 const start = q.aabb(pose);
-    Aabb3 const end = q.aabb(Iso3{pose.rotation, pose.translation + motion * cfg.max_toi});
     std::vector<std::uint32_t> near;
-    candidates(start.merge(end).grow(cfg.target_distance), filter, near);
+    candidates(swept_box(q, pose, motion, cfg), filter, near);
     std::optional<WorldShapeHit> best;
     for (std::uint32_t i : near) {
       Body const& b = bodies_[i];
-      WorldShapeHit h{BodyId{i, bodies_[i].generation}};
-      bool hit = false;
-      if (auto const* hs = std::get_if<HalfSpace>(&b.shape)) {
-        WorldPlane const plane = world_plane(*hs, b.pose);
-        Vec3 const deepest = support_world(q, pose, -plane.normal);
-        float const gap = plane.height(deepest) - cfg.target_distance;
-        float const closing = -plane.normal.dot(motion);
-        if (gap <= 0.0f) {
-          // As the GJK cast: a start in contact is ignored when the motion leaves the plane
-          // or runs along it within 1e-3 rad.
-          hit = cfg.stop_at_penetration || closing * closing > 1e-6f * motion.dot(motion);
-          hit = hit && (cfg.stop_at_penetration || closing > 0.0f);
-          h.toi = 0.0f;
-          h.penetrating = true;
-        } else if (closing > 0.0f && gap <= closing * cfg.max_toi) {
-          hit = true;
-          h.toi = gap / closing;
-        }
-        Vec3 const at = deepest + motion * h.toi;
-        h.point = at - plane.normal * plane.height(at);
-        h.normal = plane.normal;
-      } else {
-        std::visit(
-            [&](auto const& s) {
-              using S = std::decay_t<decltype(s)>;
-              if constexpr (is_triangle_shape_v<S>) {
-                MeshShapeHit const c = mesh_shape_cast(*s.source(), b.pose, q, pose, motion, cfg);
-                if (!c.hit()) return;
-                hit = true;
-                h.toi = c.toi;
-                h.point = c.point;
-                h.normal = c.normal;
-                h.penetrating = c.penetrating;
-              } else if constexpr (!std::is_same_v<S, HalfSpace>) {
-                ShapeCastHit const c = plume::shape_cast(q, pose, motion, s, b.pose, cfg);
-                if (!c.hit || c.failed) return;
-                hit = true;
-                h.toi = c.toi;
-                h.point = c.point_b;
-                h.normal = -c.normal; // out of the body, toward the cast shape
-                h.penetrating = bool(c.penetrating);
-              }
-            },
-            b.shape);
-      }
-      if (!hit) continue;
-      if (!best || h.toi < best->toi) best = h; // ties: the lower index, visited first
+      auto h = cast_against_body(b.shape, b.pose, q, pose, motion, cfg);
+      if (!h) continue;
+      h->body = BodyId{i, bodies_[i].generation};
+      if (!best || h->toi < best->toi) best = h; // ties: the lower index, visited first
     }
     return best;
   });
 }
+
+void World::shape_cast(std::span<BodyShape const> shapes, std::span<Iso3 const> poses,
+                       std::span<Vec3 const> motions, ShapeCastConfig const& cfg,
+                       std::span<std::optional<WorldShapeHit>> out,
+                       QueryFilter const& filter) const {
+  shape_cast_with<f32xN>(shapes, poses, motions, cfg, out, filter);
+}
+
+template <class T>
+void World::shape_cast_with(std::span<BodyShape const> shapes, std::span<Iso3 const> poses,
+                            std::span<Vec3 const> motions, ShapeCastConfig const& cfg,
+                            std::span<std::optional<WorldShapeHit>> out,
+                            QueryFilter const& filter) const {
+  std::size_t const count = shapes.size();
+  if (poses.size() != count || motions.size() != count || out.size() != count)
+    throw std::invalid_argument(
+        "World::shape_cast: shapes, poses, motions and out differ in length");
+  constexpr std::size_t W = lanes_v<T>;
+  std::vector<std::uint32_t> near;
+  for (std::size_t first = 0; first < count; first += W) {
+    std::size_t const n = std::min(W, count - first);
+    for (std::size_t k = 0; k < n; ++k)
+      out[first + k].reset();
+    // A packet: consecutive queries of one lane kind; any other run goes one at a time.
+    std::size_t const kind = shapes[first].index();
+    bool const packable =
+        std::visit([](auto const& s) { return lane_shape_v<std::decay_t<decltype(s)>>; },
+                   shapes[first]) &&
+        std::all_of(shapes.begin() + std::ptrdiff_t(first),
+                    shapes.begin() + std::ptrdiff_t(first + n),
+                    [&](BodyShape const& s) { return s.index() == kind; });
+    if (!packable || !usable_cast(Iso3{}, Vec3{}, cfg)) {
+      for (std::size_t k = 0; k < n; ++k)
+        out[first + k] =
+            shape_cast(shapes[first + k], poses[first + k], motions[first + k], cfg, filter);
+      continue;
+    }
+    std::visit(
+        [&](auto const& first_shape) {
+          using S = std::decay_t<decltype(first_shape)>;
+          if constexpr (lane_shape_v<S>) {
+            // Each lane's swept box, as the single form's; unusable lanes take no part.
+            std::array<Aabb3, W> box;
+            std::uint64_t live = 0;
+            Aabb3 all = Aabb3::EMPTY;
+            std::array<Iso3, W> pose;
+            std::array<Vec3, W> motion;
+            for (std::size_t k = 0; k < W; ++k) {
+              std::size_t const q = first + (k < n ? k : 0);
+              pose[k] = poses[q];
+              motion[k] = motions[q];
+              if (k >= n || !usable_cast(pose[k], motion[k], cfg)) {
+                pose[k] = Iso3{}; // harmless values for lanes that take no part
+                motion[k] = Vec3{};
+                continue;
+              }
+              box[k] = swept_box(std::get<S>(shapes[q]), pose[k], motion[k], cfg);
+              all = all.merge(box[k]);
+              live |= std::uint64_t(1) << k;
+            }
+            if (!live) return;
+            candidates(all, filter, near);
+            auto const lanes_shape = pack_shapes<T, S, W>(&shapes[first], n);
+            std::array<Quat, W> rot;
+            std::array<Vec3, W> at;
+            for (std::size_t k = 0; k < W; ++k) {
+              rot[k] = pose[k].rotation;
+              at[k] = pose[k].translation;
+            }
+            GIso3<T> const lanes_pose{pack<T>(rot.data()), pack<T>(at.data())};
+            GVec3<T> const lanes_motion = pack<T>(motion.data());
+            std::array<Aabb3, W> clamped;
+            for (std::size_t k = 0; k < W; ++k)
+              clamped[k] = clamp_box(box[k]);
+            for (std::uint32_t i : near) {
+              std::uint64_t lanes = 0; // the lanes whose own candidates include body i
+              for (std::uint64_t m = live; m; m &= m - 1) {
+                auto const k = std::size_t(std::countr_zero(m));
+                if (bool(bvh_.box(i).intersects(clamped[k]))) lanes |= std::uint64_t(1) << k;
+              }
+              if (!lanes) continue;
+              Body const& b = bodies_[i];
+              BodyId const id{i, b.generation};
+              auto const offer = [&](std::size_t k, WorldShapeHit h) {
+                h.body = id;
+                auto& best = out[first + k];
+                if (!best || h.toi < best->toi) best = h; // ties: the lower index, first
+              };
+              std::visit(
+                  [&](auto const& bs) {
+                    using B = std::decay_t<decltype(bs)>;
+                    if constexpr (lane_shape_v<B>) {
+                      GShapeCastHit<T> const c =
+                          plume::shape_cast(lanes_shape, lanes_pose, lanes_motion, widen<T>(bs),
+                                            GIso3<T>(b.pose), cfg);
+                      alignas(64) std::array<float, W> toi, px, py, pz, nx, ny, nz;
+                      plume::store_aligned(toi.data(), c.toi);
+                      plume::store_aligned(px.data(), c.point_b.x);
+                      plume::store_aligned(py.data(), c.point_b.y);
+                      plume::store_aligned(pz.data(), c.point_b.z);
+                      plume::store_aligned(nx.data(), c.normal.x);
+                      plume::store_aligned(ny.data(), c.normal.y);
+                      plume::store_aligned(nz.data(), c.normal.z);
+                      std::uint64_t const pen = plume::bitmask(c.penetrating);
+                      std::uint64_t const hits =
+                          lanes & plume::bitmask(c.hit) & ~plume::bitmask(c.failed);
+                      for (std::uint64_t m = hits; m; m &= m - 1) {
+                        auto const k = std::size_t(std::countr_zero(m));
+                        offer(k, WorldShapeHit{id,
+                                               toi[k],
+                                               {px[k], py[k], pz[k]},
+                                               -Vec3{nx[k], ny[k], nz[k]},
+                                               bool(pen >> k & 1)});
+                      }
+                    } else { // half-spaces, hulls, meshes: lane by lane, as the single form
+                      for (std::uint64_t m = lanes; m; m &= m - 1) {
+                        auto const k = std::size_t(std::countr_zero(m));
+                        auto const h =
+                            cast_against_body(b.shape, b.pose, std::get<S>(shapes[first + k]),
+                                              pose[k], motion[k], cfg);
+                        if (h) offer(k, *h);
+                      }
+                    }
+                  },
+                  b.shape);
+            }
+          }
+        },
+        shapes[first]);
+  }
+}
+
+#define PLUME_INSTANTIATE_SHAPES(T, lanes)                                                         \
+  template void World::shape_cast_with<T>(                                                         \
+      std::span<BodyShape const>, std::span<Iso3 const>, std::span<Vec3 const>,                    \
+      ShapeCastConfig const&, std::span<std::optional<WorldShapeHit>>, QueryFilter const&) const;
+PLUME_FOR_EACH_F32_TYPE(PLUME_INSTANTIATE_SHAPES)
 
 void World::overlap_aabb(Aabb3 const& box, std::function<bool(BodyId)> const& f,
                          QueryFilter const& filter) const {

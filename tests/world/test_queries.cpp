@@ -100,6 +100,32 @@ World random_scene(std::uint32_t seed, int n, BroadPhaseKind kind = BroadPhaseKi
   return w;
 }
 
+/// random_scene with a mesh, a height field and a moving kinematic body: every kind of body
+/// the batch queries meet.
+World batch_scene() {
+  World w = random_scene(5, 120);
+  auto mesh =
+      std::make_shared<TriangleMesh const>(test::make(test::grid(12, 0.5f, test::terrain_height)));
+  w.create_body({.type = BodyType::static_body,
+                 .pose = Iso3::from_translation({-3, 0.5f, -3}),
+                 .shape = MeshShape{mesh}});
+  std::vector<float> heights(9 * 9);
+  for (std::size_t k = 0; k < heights.size(); ++k)
+    heights[k] = 0.3f * std::sin(float(k));
+  auto field = HeightField::build(9, 9, heights, 0.5f, 0.5f);
+  REQUIRE(field.ok());
+  w.create_body(
+      {.type = BodyType::static_body,
+       .pose = Iso3::from_translation({2, 0.8f, 2}),
+       .shape = HeightFieldShape{std::make_shared<HeightField const>(std::move(field.field))}});
+  w.create_body({.type = BodyType::kinematic,
+                 .pose = Iso3::from_translation({0, 3, 0}),
+                 .linear_velocity = {0.5f, 0, 0},
+                 .shape = Cuboid{Vec3{1, 0.2f, 1}}});
+  w.step(1.0f / 60.0f);
+  return w;
+}
+
 } // namespace
 
 TEST_CASE("world queries: rays against brute force over every body", "[world][queries]") {
@@ -153,26 +179,7 @@ TEST_CASE(
   // Every shape, a mesh and a height field (lane by lane), a kinematic body; rays in packets
   // of neighbours (a fan from one point), at random, unusable and filtered; counts that leave
   // a partial packet.
-  World w = random_scene(5, 120);
-  auto mesh =
-      std::make_shared<TriangleMesh const>(test::make(test::grid(12, 0.5f, test::terrain_height)));
-  w.create_body({.type = BodyType::static_body,
-                 .pose = Iso3::from_translation({-3, 0.5f, -3}),
-                 .shape = MeshShape{mesh}});
-  std::vector<float> heights(9 * 9);
-  for (std::size_t k = 0; k < heights.size(); ++k)
-    heights[k] = 0.3f * std::sin(float(k));
-  auto field = HeightField::build(9, 9, heights, 0.5f, 0.5f);
-  REQUIRE(field.ok());
-  w.create_body(
-      {.type = BodyType::static_body,
-       .pose = Iso3::from_translation({2, 0.8f, 2}),
-       .shape = HeightFieldShape{std::make_shared<HeightField const>(std::move(field.field))}});
-  w.create_body({.type = BodyType::kinematic,
-                 .pose = Iso3::from_translation({0, 3, 0}),
-                 .linear_velocity = {0.5f, 0, 0},
-                 .shape = Cuboid{Vec3{1, 0.2f, 1}}});
-  w.step(1.0f / 60.0f);
+  World const w = batch_scene();
   std::mt19937 rng(41);
   std::uniform_real_distribution<float> at(-8.0f, 8.0f), unit(-1.0f, 1.0f);
   std::vector<Ray3> rays;
@@ -567,4 +574,99 @@ TEST_CASE("world queries: filters, layers, fresh poses, both broad phases, bad i
     REQUIRE(hs.has_value() == ht.has_value());
     if (hs) CHECK(hs->body == ht->body);
   }
+}
+
+TEST_CASE("world queries: the batch shape cast is the single one per query, bit for bit, at "
+          "every width",
+          "[world][queries][determinism]") {
+  World const w = batch_scene();
+  std::mt19937 rng(43);
+  std::uniform_real_distribution<float> at(-7.0f, 7.0f), unit(-1.0f, 1.0f), size(0.1f, 0.6f);
+  std::vector<BodyShape> shapes;
+  std::vector<Iso3> poses;
+  std::vector<Vec3> motions;
+  auto const add = [&](BodyShape const& shape, bool near_packet) {
+    Vec3 const from = near_packet && !poses.empty()
+                          ? poses.back().translation + Vec3{0.3f * unit(rng), 0, 0.3f * unit(rng)}
+                          : Vec3{at(rng), 3.0f + 2.0f * unit(rng), at(rng)};
+    Vec3 axis{unit(rng), unit(rng), unit(rng)};
+    axis = axis.length() > 0.1f ? axis.normalize() : Vec3::Y;
+    shapes.push_back(shape);
+    poses.push_back(Iso3{Quat::from_axis_angle(axis, 3.0f * unit(rng)), from});
+    motions.push_back({2.0f * unit(rng), -4.0f + unit(rng), 2.0f * unit(rng)});
+  };
+  for (int run = 0; run < 24; ++run) { // runs of one kind, of every size, coherent or not
+    int const len = 1 + int(rng() % 21);
+    for (int k = 0; k < len; ++k) {
+      switch (run % 4) {
+      case 0:
+        add(Sphere{size(rng)}, run % 3 == 0);
+        break;
+      case 1:
+        add(Capsule{size(rng), size(rng)}, run % 3 == 0);
+        break;
+      case 2:
+        add(Cuboid{Vec3{size(rng), size(rng), size(rng)}}, run % 3 == 0);
+        break;
+      default:
+        add(Cylinder{size(rng), size(rng)}, run % 3 == 0);
+        break;
+      }
+    }
+  }
+  for (int k = 0; k < 12; ++k) // a mixed run, hulls and shapes that are no query shape
+    add(k % 3 == 0   ? BodyShape{Sphere{0.3f}}
+        : k % 3 == 1 ? BodyShape{tetra_hull()}
+                     : BodyShape{HalfSpace{Vec3::Y}},
+        false);
+  poses[5].translation.x = std::numeric_limits<float>::quiet_NaN(); // unusable lanes
+  motions[9] = Vec3{std::numeric_limits<float>::infinity(), 0, 0};
+  poses[30] = Iso3::from_translation({0, 0.2f, 0}); // starts in the ground
+  motions[31] = Vec3{};                             // does not move
+  ShapeCastConfig skin;
+  skin.target_distance = 0.05f;
+  skin.stop_at_penetration = false;
+  ShapeCastConfig short_cast;
+  short_cast.max_toi = 0.3f;
+  BodyId const skip = w.body_id(9);
+  struct Case {
+    ShapeCastConfig cfg;
+    QueryFilter filter;
+  };
+  std::vector<Case> cases;
+  cases.push_back({ShapeCastConfig{}, QueryFilter{}});
+  cases.push_back({skin, QueryFilter{.exclude = std::span<BodyId const>(&skip, 1)}});
+  cases.push_back(
+      {short_cast, QueryFilter{.predicate = [](BodyId id) { return id.index % 4 != 0; }}});
+  for (Case const& c : cases) {
+    std::vector<std::optional<WorldShapeHit>> want(shapes.size());
+    for (std::size_t k = 0; k < shapes.size(); ++k)
+      want[k] = w.shape_cast(shapes[k], poses[k], motions[k], c.cfg, c.filter);
+    auto const check = [&]<class T>() {
+      std::vector<std::optional<WorldShapeHit>> got(shapes.size());
+      w.shape_cast_with<T>(shapes, poses, motions, c.cfg, got, c.filter);
+      int hits = 0;
+      for (std::size_t k = 0; k < shapes.size(); ++k) {
+        INFO("width " << lanes_v<T> << ", query " << k << ", target distance "
+                      << c.cfg.target_distance);
+        REQUIRE(got[k].has_value() == want[k].has_value());
+        if (!want[k]) continue;
+        ++hits;
+        CHECK(got[k]->body == want[k]->body);
+        CHECK(test::same_bits(got[k]->toi, want[k]->toi));
+        CHECK(test::same_bits(got[k]->point, want[k]->point));
+        CHECK(test::same_bits(got[k]->normal, want[k]->normal));
+        CHECK(got[k]->penetrating == want[k]->penetrating);
+      }
+      CHECK(hits > 30);
+    };
+    check.template operator()<float>();
+    for_each_type<test::f32_wide_types>(check);
+  }
+  // Spans of different lengths: an error, nothing written.
+  std::vector<std::optional<WorldShapeHit>> out(shapes.size());
+  std::span<Vec3 const> const fewer(motions.data(), motions.size() - 1);
+  CHECK_THROWS_AS(w.shape_cast(shapes, poses, fewer, ShapeCastConfig{}, out),
+                  std::invalid_argument);
+  CHECK(std::none_of(out.begin(), out.end(), [](auto const& h) { return h.has_value(); }));
 }

@@ -384,6 +384,24 @@ public:
   std::optional<WorldShapeHit> shape_cast(BodyShape const& shape, Iso3 const& pose,
                                           Vec3 const& motion, ShapeCastConfig const& cfg = {},
                                           QueryFilter const& filter = {}) const;
+  /// One shape_cast per query: out[i] for shapes[i] at poses[i] moving by motions[i], each
+  /// bitwise the single form's, with the widest batch the build has (shape_cast_with<f32xN>).
+  /// std::invalid_argument when the four spans differ in length (nothing written).
+  void shape_cast(std::span<BodyShape const> shapes, std::span<Iso3 const> poses,
+                  std::span<Vec3 const> motions, ShapeCastConfig const& cfg,
+                  std::span<std::optional<WorldShapeHit>> out,
+                  QueryFilter const& filter = {}) const;
+  /// The batch form, lanes_v<T> queries at a time: a packet of consecutive queries whose
+  /// shapes are all spheres, all capsules, all cuboids or all cylinders (of any sizes: W
+  /// characters' capsules) shares one candidate search (the union of the swept boxes, each
+  /// lane keeping its own candidates) and is cast against each sphere, capsule, cuboid or
+  /// cylinder body in one call of the single form's template; against half-spaces, hulls and
+  /// meshes lane by lane. Other packets run one query at a time.
+  template <class T>
+  void shape_cast_with(std::span<BodyShape const> shapes, std::span<Iso3 const> poses,
+                       std::span<Vec3 const> motions, ShapeCastConfig const& cfg,
+                       std::span<std::optional<WorldShapeHit>> out,
+                       QueryFilter const& filter = {}) const;
   /// Bodies whose (grown) bounding boxes overlap `box`, by body index; f returns false to stop.
   void overlap_aabb(Aabb3 const& box, std::function<bool(BodyId)> const& f,
                     QueryFilter const& filter = {}) const;
