@@ -457,7 +457,9 @@ void World::shape_cast_with(std::span<BodyShape const> shapes, std::span<Iso3 co
         "World::shape_cast: shapes, poses, motions and out differ in length");
   constexpr std::size_t W = lanes_v<T>;
   std::vector<std::uint32_t> near;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> lane_of; // (body, lane)
   for (std::size_t first = 0; first < count; first += W) {
+    lane_of.clear();
     std::size_t const n = std::min(W, count - first);
     for (std::size_t k = 0; k < n; ++k)
       out[first + k].reset();
@@ -480,9 +482,7 @@ void World::shape_cast_with(std::span<BodyShape const> shapes, std::span<Iso3 co
           using S = std::decay_t<decltype(first_shape)>;
           if constexpr (lane_shape_v<S>) {
             // Each lane's swept box, as the single form's; unusable lanes take no part.
-            std::array<Aabb3, W> box;
             std::uint64_t live = 0;
-            Aabb3 all = Aabb3::EMPTY;
             std::array<Iso3, W> pose;
             std::array<Vec3, W> motion;
             for (std::size_t k = 0; k < W; ++k) {
@@ -494,12 +494,16 @@ void World::shape_cast_with(std::span<BodyShape const> shapes, std::span<Iso3 co
                 motion[k] = Vec3{};
                 continue;
               }
-              box[k] = swept_box(std::get<S>(shapes[q]), pose[k], motion[k], cfg);
-              all = all.merge(box[k]);
+              // The lane's own candidates, found as the single form finds them.
+              candidates(swept_box(std::get<S>(shapes[q]), pose[k], motion[k], cfg), filter, near);
+              for (std::uint32_t i : near)
+                lane_of.push_back({i, std::uint32_t(k)});
               live |= std::uint64_t(1) << k;
             }
             if (!live) return;
-            candidates(all, filter, near);
+            // Each body once, with the lanes that have it, in increasing body index (the
+            // order each lane's single form visits them).
+            std::sort(lane_of.begin(), lane_of.end());
             auto const lanes_shape = pack_shapes<T, S, W>(&shapes[first], n);
             std::array<Quat, W> rot;
             std::array<Vec3, W> at;
@@ -509,16 +513,11 @@ void World::shape_cast_with(std::span<BodyShape const> shapes, std::span<Iso3 co
             }
             GIso3<T> const lanes_pose{pack<T>(rot.data()), pack<T>(at.data())};
             GVec3<T> const lanes_motion = pack<T>(motion.data());
-            std::array<Aabb3, W> clamped;
-            for (std::size_t k = 0; k < W; ++k)
-              clamped[k] = clamp_box(box[k]);
-            for (std::uint32_t i : near) {
+            for (std::size_t g = 0; g < lane_of.size();) {
+              std::uint32_t const i = lane_of[g].first;
               std::uint64_t lanes = 0; // the lanes whose own candidates include body i
-              for (std::uint64_t m = live; m; m &= m - 1) {
-                auto const k = std::size_t(std::countr_zero(m));
-                if (bool(bvh_.box(i).intersects(clamped[k]))) lanes |= std::uint64_t(1) << k;
-              }
-              if (!lanes) continue;
+              for (; g < lane_of.size() && lane_of[g].first == i; ++g)
+                lanes |= std::uint64_t(1) << lane_of[g].second;
               Body const& b = bodies_[i];
               BodyId const id{i, b.generation};
               auto const offer = [&](std::size_t k, WorldShapeHit h) {
@@ -530,6 +529,14 @@ void World::shape_cast_with(std::span<BodyShape const> shapes, std::span<Iso3 co
                   [&](auto const& bs) {
                     using B = std::decay_t<decltype(bs)>;
                     if constexpr (lane_shape_v<B>) {
+                      if (std::popcount(lanes) == 1) { // one lane: the single form, cheaper
+                        auto const k = std::size_t(std::countr_zero(lanes));
+                        auto const h =
+                            cast_against_body(b.shape, b.pose, std::get<S>(shapes[first + k]),
+                                              pose[k], motion[k], cfg);
+                        if (h) offer(k, *h);
+                        return;
+                      }
                       GShapeCastHit<T> const c =
                           plume::shape_cast(lanes_shape, lanes_pose, lanes_motion, widen<T>(bs),
                                             GIso3<T>(b.pose), cfg);

@@ -391,12 +391,13 @@ public:
                   std::span<Vec3 const> motions, ShapeCastConfig const& cfg,
                   std::span<std::optional<WorldShapeHit>> out,
                   QueryFilter const& filter = {}) const;
-  /// The batch form, lanes_v<T> queries at a time: a packet of consecutive queries whose
+  /// The batch form, lanes_v<T> queries at a time: in a packet of consecutive queries whose
   /// shapes are all spheres, all capsules, all cuboids or all cylinders (of any sizes: W
-  /// characters' capsules) shares one candidate search (the union of the swept boxes, each
-  /// lane keeping its own candidates) and is cast against each sphere, capsule, cuboid or
-  /// cylinder body in one call of the single form's template; against half-spaces, hulls and
-  /// meshes lane by lane. Other packets run one query at a time.
+  /// characters' capsules), each lane finds its own candidates, and a sphere, capsule, cuboid
+  /// or cylinder body that two or more lanes share is cast against all of them in one call of
+  /// the single form's template; a body only one lane has, a half-space, a hull or a mesh,
+  /// lane by lane. Other packets run one query at a time. Queries near each other (a crowd)
+  /// share the most (docs/performance.md).
   template <class T>
   void shape_cast_with(std::span<BodyShape const> shapes, std::span<Iso3 const> poses,
                        std::span<Vec3 const> motions, ShapeCastConfig const& cfg,
