@@ -28,7 +28,7 @@ FLOORS = OrderedDict([
     ("math", ["plume_bench_math"]),
     ("collision", ["plume_bench_collision", "plume_bench_gjk", "plume_bench_ray_scene"]),
     ("spatial", ["plume_bench_spatial"]),
-    ("character", ["plume_bench_character"]),
+    ("character", ["plume_bench_character", "plume_bench_character_move"]),
     ("solver", ["plume_bench_solver"]),
     ("world", ["plume_bench_world"]),
 ])

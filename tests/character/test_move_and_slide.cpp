@@ -3,6 +3,7 @@
 // 100 frames unless said), each asserting the property it names; the callback's contract; bad
 // input; and a user's collider span (ColliderSetQuery) giving the world's path bit for bit.
 #include "../common/harness.hpp"
+#include "../common/types.hpp"
 #include "../spatial/mesh_support.hpp"
 
 #include <plume/solver/character/collider_set.hpp>
@@ -17,6 +18,7 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <stdexcept>
 #include <vector>
 
 using namespace plume;
@@ -458,6 +460,18 @@ TEST_CASE("move and slide: the callback sees the collider touched and its change
   CHECK(aborted.sweeps == 1);
   CHECK(aborted.position.x + 0.5f <= 2.5f);
   CHECK(aborted.position.x + 0.5f >= 2.5f - 2 * skin); // it did move up to the hit
+  // abort from a contact plane (the floor, after the sweep hit the wall): no more sweeps.
+  int contact_calls = 0;
+  auto const aborted_contact =
+      move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({0, 0, 0}),
+                     Vec3{200, 0, 200}, dt, {}, {}, [&](MoveHit<BodyId>& h) {
+                       if (h.kind != MoveHitKind::contact) return HitResponse::accept;
+                       ++contact_calls;
+                       return HitResponse::abort;
+                     });
+  CHECK(aborted_contact.aborted);
+  CHECK(contact_calls == 1);
+  CHECK(aborted_contact.sweeps == 1);
 
   // A changed normal is honoured for the sweep's hit: turn the wall into a floor-like plane.
   auto const bent = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({1.9f, 2, 0}),
@@ -727,4 +741,119 @@ TEST_CASE("move and slide: a ColliderSetQuery gives the world's path, bit for bi
   CHECK(bad.position.x > 3.5f);
   CHECK(!set.cast(capsule, Iso3::from_translation({std::numeric_limits<float>::infinity(), 0, 0}),
                   Vec3{1, 0, 0}, {}));
+}
+
+namespace {
+
+/// Two results are the same, bit for bit: position, velocity, flags and every kept hit.
+void require_same(MoveAndSlideResult<BodyId> const& a, MoveAndSlideResult<BodyId> const& b) {
+  REQUIRE(test::same_bits(a.position, b.position));
+  REQUIRE(test::same_bits(a.velocity, b.velocity));
+  REQUIRE(a.sweeps == b.sweeps);
+  REQUIRE(a.aborted == b.aborted);
+  REQUIRE(a.invalid_input == b.invalid_input);
+  REQUIRE(a.depenetrated == b.depenetrated);
+  REQUIRE(a.deep_start == b.deep_start);
+  REQUIRE(a.planes == b.planes);
+  REQUIRE(a.hit_count == b.hit_count);
+  REQUIRE(a.hits_dropped == b.hits_dropped);
+  for (std::size_t h = 0; h < a.hit_count; ++h) {
+    REQUIRE(a.hits[h].collider == b.hits[h].collider);
+    REQUIRE(a.hits[h].kind == b.hits[h].kind);
+    REQUIRE(a.hits[h].iteration == b.hits[h].iteration);
+    REQUIRE(test::same_bits(a.hits[h].normal, b.hits[h].normal));
+    REQUIRE(test::same_bits(a.hits[h].position, b.hits[h].position));
+    REQUIRE(test::same_bits(a.hits[h].distance, b.hits[h].distance));
+  }
+}
+
+} // namespace
+
+TEST_CASE("move and slide: W characters in lanes move exactly as each one alone",
+          "[character][move][lanes]") {
+  // A level of boxes, a ramp, a hull and a mesh floor patch; a crowd of capsules of different
+  // sizes walking in different directions, some starting in overlap, one with a NaN pose, one
+  // whose callback aborts and one that ignores walls, over 90 frames, through the world
+  // (cast_lanes: the world's batch casts) and through a ColliderSetQuery (one cast at a time).
+  World w;
+  add_floor(w);
+  add_box(w, {4, 0, 0}, {0.5f, 3, 6});
+  add_box(w, {0, 0, 4}, {6, 3, 0.5f});
+  add_box(w, {-5, -1.2f, 0}, {3, 0.5f, 3}, Quat::from_rotation_z(0.3f));
+  add_box(w, {1.5f, -0.7f, 1.5f}, {0.4f, 0.3f, 0.4f});
+  auto mesh = std::make_shared<TriangleMesh const>(
+      test::make(test::grid(6, 0.5f, [](float x, float z) { return 0.05f * x + 0.02f * z; })));
+  w.create_body({.type = BodyType::static_body,
+                 .pose = Iso3::from_translation({-2, -1.0f - skin, -4}),
+                 .shape = MeshShape{mesh}});
+  WorldMoveQuery const scene(w);
+  std::vector<Collider> level = {
+      {Cuboid{Vec3{20, 0.5f, 20}}, Iso3::from_translation({0, -1.5f - skin, 0})},
+      {Cuboid{Vec3{0.5f, 3, 6}}, Iso3::from_translation({4, 0, 0})},
+      {ConvexHull::build(std::vector<Vec3>{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}).hull,
+       Iso3::from_translation({-2, -1, -3})},
+  };
+  ColliderSetQuery<Capsule> const set(level);
+  auto const run = [&]<class T>() {
+    constexpr std::size_t W = lanes_v<T>;
+    std::vector<BodyShape> shapes;
+    std::vector<Capsule> capsules;
+    std::array<Vec3, W> pos, vel;
+    for (std::size_t k = 0; k < W; ++k) {
+      capsules.push_back(Capsule{0.3f + 0.04f * float(k % 3), 0.3f + 0.05f * float(k % 4)});
+      shapes.push_back(capsules.back());
+      pos[k] = {-1.0f + 0.7f * float(k % 4), -0.2f + 0.01f * float(k), -1.0f + 0.6f * float(k / 4)};
+      vel[k] = {5 * std::cos(0.9f * float(k)), -2, 5 * std::sin(1.7f * float(k))};
+    }
+    if (W > 2) pos[2] = {3.7f, 0, 0}; // starts in the wall
+    if (W > 3) pos[3].x = std::numeric_limits<float>::quiet_NaN();
+    auto const respond = [](std::size_t lane, auto& h) {
+      if (lane == 1 && h.iteration == 1) return HitResponse::abort;
+      if (lane == 4 && std::abs(h.normal.y) < 0.5f) return HitResponse::ignore;
+      return HitResponse::accept;
+    };
+    MoveAndSlideConfig cfg;
+    Vec3 const ceiling[] = {Vec3{0, -1, 0}};
+    int walls = 0;
+    for (int frame = 0; frame < 90; ++frame) {
+      if (frame == 45) cfg.user_planes = ceiling;
+      std::array<Quat, W> rot;
+      rot.fill(Quat::IDENTITY);
+      GIso3<T> const poses{pack<T>(rot.data()), pack<T>(pos.data())};
+      auto const lanes = move_and_slide_lanes<T>(scene, std::span<BodyShape const>(shapes), poses,
+                                                 pack<T>(vel.data()), dt, cfg, {}, respond);
+      auto const lanes_set = move_and_slide_lanes<T>(set, std::span<Capsule const>(capsules), poses,
+                                                     pack<T>(vel.data()), dt, cfg, {}, respond);
+      std::array<Vec3, W> next;
+      unpack(lanes.position, next.data());
+      for (std::size_t k = 0; k < W; ++k) {
+        INFO("width " << W << ", frame " << frame << ", lane " << k);
+        auto const one =
+            move_and_slide(scene, shapes[k], Iso3::from_translation(pos[k]), vel[k], dt, cfg, {},
+                           [&](MoveHit<BodyId>& h) { return respond(k, h); });
+        require_same(lanes.lanes[k], one);
+        REQUIRE(test::same_bits(next[k], one.position));
+        auto const one_set =
+            move_and_slide(set, capsules[k], Iso3::from_translation(pos[k]), vel[k], dt, cfg, {},
+                           [&](MoveHit<std::uint32_t>& h) { return respond(k, h); });
+        REQUIRE(test::same_bits(lanes_set.lanes[k].position, one_set.position));
+        REQUIRE(test::same_bits(lanes_set.lanes[k].velocity, one_set.velocity));
+        REQUIRE(lanes_set.lanes[k].sweeps == one_set.sweeps);
+        REQUIRE(lanes_set.lanes[k].hit_count == one_set.hit_count);
+        for (auto const& h : one.accepted())
+          walls += std::abs(h.normal.y) < 0.5f ? 1 : 0;
+      }
+      for (std::size_t k = 0; k < W; ++k)
+        if (!lanes.lanes[k].invalid_input) pos[k] = lanes.lanes[k].position;
+    }
+    if (W > 3) CHECK(std::isnan(pos[3].x)); // never moved: invalid input
+    if (W > 1) CHECK(walls > 0);            // the walls were met
+  };
+  run.template operator()<float>();
+  for_each_type<test::f32_wide_types>(run);
+  // A shape count other than the width is refused.
+  std::vector<BodyShape> two(2, BodyShape{capsule});
+  CHECK_THROWS_AS(move_and_slide_lanes<float>(scene, std::span<BodyShape const>(two), Iso3{},
+                                              Vec3{}, dt, {}, {}, AcceptAllHits{}),
+                  std::invalid_argument);
 }

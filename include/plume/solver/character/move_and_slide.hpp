@@ -53,6 +53,7 @@
 #pragma once
 
 #include <plume/math/iso3.hpp>
+#include <plume/math/pack.hpp>
 #include <plume/math/vec3.hpp>
 #include <plume/solver/character/depenetration.hpp>
 #include <plume/solver/character/plane_set.hpp>
@@ -66,6 +67,8 @@
 #include <limits>
 #include <optional>
 #include <span>
+#include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 namespace plume {
@@ -211,6 +214,11 @@ struct AcceptAllHits {
   HitResponse operator()(Hit&) const noexcept {
     return HitResponse::accept;
   }
+  /// move_and_slide_lanes' form (lane, hit).
+  template <class Hit>
+  HitResponse operator()(std::size_t, Hit&) const noexcept {
+    return HitResponse::accept;
+  }
 };
 
 /// The contacts around the shape at `pose`: every collider within `distance` (length units)
@@ -288,15 +296,23 @@ struct CastMove {
 /// returns how far it may move keeping the skin to the first hit: max(d - skin / max(dir . -n,
 /// 0.005), 0), at most |motion|, with the hit and its cast distance. Zero or non-finite
 /// motion: no hit and safe = 0.
-template <MoveQuery Q>
-CastMove<typename Q::collider_id>
-cast_move(Q const& query, typename Q::shape_type const& shape, Iso3 const& pose, Vec3 const& motion,
-          MoveAndSlideConfig const& cfg = {}, typename Q::filter_type const& filter = {}) {
-  CastMove<typename Q::collider_id> out;
+namespace detail {
+/// cast_move's cast: the motion cast (|motion| + skin along it), none for a zero or
+/// non-finite motion.
+inline std::optional<Vec3> cast_move_motion(Vec3 const& motion, MoveAndSlideConfig const& cfg) {
+  float const len = motion.length();
+  if (!(len > 0.0f) || !std::isfinite(len)) return std::nullopt;
+  return (motion / len) * (len + cfg.skin);
+}
+/// cast_move's answer from the cast's hit (the cast was cast_move_motion's).
+template <class Id>
+CastMove<Id> cast_move_result(Vec3 const& motion, std::optional<MoveCastHit<Id>> const& hit,
+                              MoveAndSlideConfig const& cfg) {
+  CastMove<Id> out;
   float const len = motion.length();
   if (!(len > 0.0f) || !std::isfinite(len)) return out;
   Vec3 const dir = motion / len;
-  out.hit = query.cast(shape, pose, dir * (len + cfg.skin), filter);
+  out.hit = hit;
   if (!out.hit) {
     out.safe = len;
     return out;
@@ -306,38 +322,61 @@ cast_move(Q const& query, typename Q::shape_type const& shape, Iso3 const& pose,
   out.safe = std::clamp(out.hit_distance - cfg.skin / std::max(out.approach, 0.005f), 0.0f, len);
   return out;
 }
+} // namespace detail
 
-/// Moves the shape by velocity * dt through the query's scene (the file comment says how).
-template <MoveQuery Q, class OnHit = AcceptAllHits>
-MoveAndSlideResult<typename Q::collider_id>
-move_and_slide(Q const& query, typename Q::shape_type const& shape, Iso3 const& pose,
-               Vec3 const& velocity, float dt, MoveAndSlideConfig const& cfg = {},
-               typename Q::filter_type const& filter = {}, OnHit&& on_hit = {}) {
+template <MoveQuery Q>
+CastMove<typename Q::collider_id>
+cast_move(Q const& query, typename Q::shape_type const& shape, Iso3 const& pose, Vec3 const& motion,
+          MoveAndSlideConfig const& cfg = {}, typename Q::filter_type const& filter = {}) {
+  std::optional<Vec3> const cast = detail::cast_move_motion(motion, cfg);
+  if (!cast) return {};
+  return detail::cast_move_result(motion, query.cast(shape, pose, *cast, filter), cfg);
+}
+
+namespace detail {
+
+/// move_and_slide's loop, cut at its casts so that W characters can run it in lock step and
+/// cast together (move_and_slide_lanes) while each one takes exactly the scalar call's steps:
+/// start(); while (next_sweep()) take_cast(query.cast(shape, pose(), cast_motion, filter));
+/// finish().
+template <MoveQuery Q, class OnHit>
+struct MoveAndSlideRun {
   using Id = typename Q::collider_id;
-  MoveAndSlideResult<Id> r;
-  r.position = pose.translation;
-  r.velocity = velocity;
-  if (!bool(pose.is_finite()) || !bool(velocity.is_finite()) || !std::isfinite(dt) ||
-      !(dt >= 0.0f)) {
-    r.invalid_input = true;
-    return r;
-  }
-  auto const at = [&](Vec3 const& p) { return Iso3{pose.rotation, p}; };
-  auto const keep = [&](MoveHit<Id> const& h) {
+
+  MoveAndSlideRun(Q const& q, typename Q::shape_type const& s, Iso3 const& p,
+                  MoveAndSlideConfig const& c, typename Q::filter_type const& f, OnHit& h)
+      : query(q), shape(s), pose(p), cfg(c), filter(f), on_hit(h) {}
+
+  Q const& query;
+  typename Q::shape_type const& shape;
+  Iso3 pose;
+  MoveAndSlideConfig const& cfg;
+  typename Q::filter_type const& filter;
+  OnHit& on_hit;
+
+  MoveAndSlideResult<Id> r{};
+  Vec3 pos{}, v{};
+  float time_left = 0.0f;
+  int it = 0;
+  bool looping = false;
+  Vec3 sweep{};                    ///< this iteration's sweep (after next_sweep())
+  float len = 0.0f;                ///< its length
+  std::optional<Vec3> cast_motion; ///< what to cast (none: the sweep needs no cast)
+  std::vector<Vec3> normals;       ///< the accepted planes of one sweep
+
+  Iso3 at(Vec3 const& p) const { return Iso3{pose.rotation, p}; }
+  void keep(MoveHit<Id> const& h) {
     if (r.hit_count < r.hits.size())
       r.hits[r.hit_count++] = h;
     else
       ++r.hits_dropped;
-  };
-  Vec3 pos = pose.translation;
-  Vec3 v = velocity;
-  // A callback's change is kept when finite (a NaN position or velocity is not taken).
-  auto const take = [&](MoveHit<Id> const& h) {
+  }
+  /// A callback's change is kept when finite (a NaN position or velocity is not taken).
+  void take(MoveHit<Id> const& h) {
     if (bool(h.position.is_finite())) pos = h.position;
     if (bool(h.velocity.is_finite())) v = h.velocity;
-  };
-  std::vector<Vec3> normals; // the accepted planes of one sweep
-  auto const project = [&] {
+  }
+  void project() {
     PlaneSet3 planes(v, cfg.planes);
     for (Vec3 const& n : normals)
       planes.add(n);
@@ -346,39 +385,64 @@ move_and_slide(Q const& query, typename Q::shape_type const& shape, Iso3 const& 
     r.planes = std::size_t(planes.count());
     r.planes_overflowed = r.planes_overflowed || bool(planes.overflowed());
     v = project_velocity(v, planes.normals(), cfg.projection).velocity;
-  };
+  }
 
-  MoveDepenetration const first = plume::depenetrate(query, shape, at(pos), cfg, filter);
-  pos = pos + first.correction;
-  r.depenetrated = first.converged;
-  r.deep_start = first.deep;
+  /// Checks the input and depenetrates; false (r.invalid_input) when nothing is to be done.
+  bool start(Vec3 const& velocity, float dt) {
+    r.position = pose.translation;
+    r.velocity = velocity;
+    if (!bool(pose.is_finite()) || !bool(velocity.is_finite()) || !std::isfinite(dt) ||
+        !(dt >= 0.0f)) {
+      r.invalid_input = true;
+      return false;
+    }
+    pos = pose.translation;
+    v = velocity;
+    MoveDepenetration const first = plume::depenetrate(query, shape, at(pos), cfg, filter);
+    pos = pos + first.correction;
+    r.depenetrated = first.converged;
+    r.deep_start = first.deep;
+    time_left = dt;
+    looping = true;
+    return true;
+  }
 
-  float time_left = dt;
-  // A shape that started deeper than the rejection threshold only depenetrates this call:
-  // its casts cannot tell in from out, and a sweep could carry it further through.
-  for (int it = 0; it < cfg.iterations && !r.aborted && !r.deep_start; ++it) {
+  /// The head of the next iteration: false when the loop is over; else sweep, len and
+  /// cast_motion are set, and the caller casts cast_motion (when set) at pose_now().
+  bool next_sweep() {
+    // A shape that started deeper than the rejection threshold only depenetrates this call:
+    // its casts cannot tell in from out, and a sweep could carry it further through.
+    if (!looping || it >= cfg.iterations || r.aborted || r.deep_start) return looping = false;
     if (!cfg.user_planes.empty()) { // the user planes hold before anything is hit
       normals.clear();
       project();
     }
-    Vec3 sweep = v * time_left;
-    float len = sweep.length();
+    sweep = v * time_left;
+    len = sweep.length();
     if (!std::isfinite(len)) { // |v| dt overflows a float: move at most max_move along v
       float const m = std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
       sweep = (v / m).normalize() * cfg.max_move;
       len = cfg.max_move;
     }
-    if (!(len >= cfg.min_sweep)) break;
+    if (!(len >= cfg.min_sweep)) return looping = false;
     if (len > cfg.max_move) {
       sweep = sweep * (cfg.max_move / len);
       len = cfg.max_move;
     }
     ++r.sweeps;
-    CastMove<Id> const move = plume::cast_move(query, shape, at(pos), sweep, cfg, filter);
+    cast_motion = cast_move_motion(sweep, cfg);
+    return true;
+  }
+  Iso3 pose_now() const { return at(pos); }
+
+  /// The rest of the iteration, given the cast's hit (none when cast_motion was none).
+  void take_cast(std::optional<MoveCastHit<Id>> const& cast) {
+    CastMove<Id> const move = cast_motion ? cast_move_result(sweep, cast, cfg) : CastMove<Id>{};
     if (!move.hit) {
       pos = pos + sweep;
       time_left = 0.0f;
-      break;
+      looping = false;
+      return;
     }
     pos = pos + sweep * (move.safe / len);
     time_left = time_left * (1.0f - move.safe / len);
@@ -401,7 +465,10 @@ move_and_slide(Q const& query, typename Q::shape_type const& shape, Iso3 const& 
       normals.push_back(hit.normal);
       keep(hit);
     }
-    if (r.aborted) break;
+    if (r.aborted) {
+      looping = false;
+      return;
+    }
 
     Vec3 const here = pos; // contacts are found at the position after the sweep's callback
     plume::intersections(query, shape, at(here), cfg.plane_distance, filter,
@@ -427,14 +494,147 @@ move_and_slide(Q const& query, typename Q::shape_type const& shape, Iso3 const& 
                          });
     // Merged against the velocity the callbacks left, then projected onto all at once.
     project();
+    ++it;
   }
 
-  MoveDepenetration const last = plume::depenetrate(query, shape, at(pos), cfg, filter);
-  pos = pos + last.correction;
-  r.depenetrated = r.depenetrated && last.converged;
-  r.position = pos;
-  r.velocity = v;
-  return r;
+  /// The final depenetration; the result.
+  MoveAndSlideResult<Id> const& finish() {
+    if (r.invalid_input) return r;
+    MoveDepenetration const last = plume::depenetrate(query, shape, at(pos), cfg, filter);
+    pos = pos + last.correction;
+    r.depenetrated = r.depenetrated && last.converged;
+    r.position = pos;
+    r.velocity = v;
+    return r;
+  }
+};
+
+} // namespace detail
+
+/// Moves the shape by velocity * dt through the query's scene (the file comment says how).
+template <MoveQuery Q, class OnHit = AcceptAllHits>
+MoveAndSlideResult<typename Q::collider_id>
+move_and_slide(Q const& query, typename Q::shape_type const& shape, Iso3 const& pose,
+               Vec3 const& velocity, float dt, MoveAndSlideConfig const& cfg = {},
+               typename Q::filter_type const& filter = {}, OnHit&& on_hit = {}) {
+  detail::MoveAndSlideRun<Q, std::remove_reference_t<OnHit>> run(query, shape, pose, cfg, filter,
+                                                                 on_hit);
+  if (run.start(velocity, dt))
+    while (run.next_sweep())
+      run.take_cast(run.cast_motion ? query.cast(shape, run.pose_now(), *run.cast_motion, filter)
+                                    : std::nullopt);
+  return run.finish();
+}
+
+/// A scene that casts many shapes at once: cast_lanes(shapes, poses, motions, filter, out)
+/// writes out[i] = cast(shapes[i], poses[i], motions[i], filter), each the same as the single
+/// cast (WorldMoveQuery's runs them in the world's lanes). move_and_slide_lanes uses it when
+/// the scene has it, else one cast at a time.
+template <class Q>
+concept LaneMoveQuery = MoveQuery<Q> &&
+    requires(Q const& q, std::span<typename Q::shape_type const> shapes,
+             std::span<Iso3 const> poses, std::span<Vec3 const> motions,
+             typename Q::filter_type const& filter,
+             std::span<std::optional<MoveCastHit<typename Q::collider_id>>> out) {
+  q.cast_lanes(shapes, poses, motions, filter, out);
+};
+
+/// W = lanes_v<T> characters moved together.
+template <Real T, class Id>
+struct MoveAndSlideLanes {
+  GVec3<T> position;                                    ///< each lane's final position
+  GVec3<T> velocity;                                    ///< each lane's projected velocity
+  std::array<MoveAndSlideResult<Id>, lanes_v<T>> lanes; ///< each lane's whole result
+};
+
+/// move_and_slide for lanes_v<T> characters at once (T float or a batch of float): lane k
+/// moves shapes[k] (any sizes, one scene and filter for all) from poses lane k with
+/// velocities lane k, and gets exactly what move_and_slide(query, shapes[k], pose_k,
+/// velocity_k, dt, cfg, filter, hit-callback of lane k) gives, bit for bit (position,
+/// velocity, hits, flags). The lanes run the loop in lock step; each iteration's sweeps are
+/// cast together through the scene's cast_lanes (a LaneMoveQuery; else one by one), which is
+/// where the lanes gain: characters near each other share candidate colliders and casts
+/// (docs/performance.md). on_hit(lane, MoveHit<Id>&) -> HitResponse is called for each lane's
+/// hits in that lane's order. shapes must hold exactly lanes_v<T> shapes
+/// (std::invalid_argument otherwise).
+template <Real T, MoveQuery Q, class OnHit>
+MoveAndSlideLanes<T, typename Q::collider_id>
+move_and_slide_lanes(Q const& query, std::span<typename Q::shape_type const> shapes,
+                     GIso3<T> const& poses, GVec3<T> const& velocities, float dt,
+                     MoveAndSlideConfig const& cfg, typename Q::filter_type const& filter,
+                     OnHit&& on_hit) {
+  using Id = typename Q::collider_id;
+  constexpr std::size_t W = lanes_v<T>;
+  if (shapes.size() != W) throw std::invalid_argument("move_and_slide_lanes: one shape per lane");
+  std::array<Vec3, W> at, vel;
+  std::array<Quat, W> rot;
+  unpack(poses.translation, at.data());
+  unpack(poses.rotation, rot.data());
+  unpack(velocities, vel.data());
+  struct LaneHit {
+    std::remove_reference_t<OnHit>* f;
+    std::size_t lane;
+    HitResponse operator()(MoveHit<Id>& h) const { return (*f)(lane, h); }
+  };
+  using Run = detail::MoveAndSlideRun<Q, LaneHit>;
+  std::array<LaneHit, W> hits;
+  std::vector<Run> runs;
+  runs.reserve(W);
+  for (std::size_t k = 0; k < W; ++k) {
+    hits[k] = LaneHit{&on_hit, k};
+    runs.emplace_back(query, shapes[k], Iso3{rot[k], at[k]}, cfg, filter, hits[k]);
+  }
+  std::array<bool, W> going{};
+  for (std::size_t k = 0; k < W; ++k)
+    going[k] = runs[k].start(Vec3(vel[k]), dt);
+  std::vector<typename Q::shape_type> cast_shapes;
+  std::vector<Iso3> cast_poses;
+  std::vector<Vec3> cast_motions;
+  std::vector<std::size_t> cast_lane;
+  std::vector<std::optional<MoveCastHit<Id>>> cast_hits;
+  for (;;) {
+    cast_shapes.clear();
+    cast_poses.clear();
+    cast_motions.clear();
+    cast_lane.clear();
+    bool any = false;
+    for (std::size_t k = 0; k < W; ++k) {
+      if (!going[k] || !(going[k] = runs[k].next_sweep())) continue;
+      any = true;
+      if (!runs[k].cast_motion) continue;
+      cast_shapes.push_back(shapes[k]);
+      cast_poses.push_back(runs[k].pose_now());
+      cast_motions.push_back(*runs[k].cast_motion);
+      cast_lane.push_back(k);
+    }
+    if (!any) break;
+    cast_hits.assign(cast_shapes.size(), std::nullopt);
+    if constexpr (LaneMoveQuery<Q>) {
+      query.cast_lanes(std::span<typename Q::shape_type const>(cast_shapes),
+                       std::span<Iso3 const>(cast_poses), std::span<Vec3 const>(cast_motions),
+                       filter, std::span<std::optional<MoveCastHit<Id>>>(cast_hits));
+    } else {
+      for (std::size_t c = 0; c < cast_shapes.size(); ++c)
+        cast_hits[c] = query.cast(cast_shapes[c], cast_poses[c], cast_motions[c], filter);
+    }
+    std::size_t c = 0;
+    for (std::size_t k = 0; k < W; ++k) {
+      if (!going[k]) continue;
+      bool const cast = c < cast_lane.size() && cast_lane[c] == k;
+      runs[k].take_cast(cast ? cast_hits[c] : std::nullopt);
+      c += cast ? 1 : 0;
+    }
+  }
+  MoveAndSlideLanes<T, Id> out;
+  std::array<Vec3, W> p, u;
+  for (std::size_t k = 0; k < W; ++k) {
+    out.lanes[k] = runs[k].finish();
+    p[k] = out.lanes[k].position;
+    u[k] = out.lanes[k].velocity;
+  }
+  out.position = pack<T>(p.data());
+  out.velocity = pack<T>(u.data());
+  return out;
 }
 
 } // namespace plume

@@ -6,7 +6,8 @@
 //   auto r = move_and_slide(scene, BodyShape{Capsule{0.5f, 0.5f}}, pose, velocity, dt, {},
 //                           QueryFilter{.exclude = own_body});
 //
-// The character is usually not a body of the world (a kinematic character moves itself); if
+// move_and_slide_lanes casts its characters' sweeps together through cast_lanes. The
+// character is usually not a body of the world (a kinematic character moves itself); if
 // it is, exclude its own body in the filter. The world must outlive the query object, and
 // is only read (the first query after an edit may update the trees: World's query rules).
 #pragma once
@@ -15,6 +16,8 @@
 #include <plume/solver/world/world.hpp>
 
 #include <optional>
+#include <span>
+#include <vector>
 
 namespace plume {
 
@@ -40,6 +43,22 @@ public:
     return MoveCastHit<BodyId>{h->body, h->toi, h->point, h->normal};
   }
 
+  /// cast() for many shapes at once, through World::shape_cast (its batch form: shapes near
+  /// each other are cast in lanes); each out[i] is cast(shapes[i], poses[i], motions[i]).
+  void cast_lanes(std::span<BodyShape const> shapes, std::span<Iso3 const> poses,
+                  std::span<Vec3 const> motions, QueryFilter const& filter,
+                  std::span<std::optional<MoveCastHit<BodyId>>> out) const {
+    ShapeCastConfig cfg;
+    cfg.max_toi = 1.0f;
+    cfg.stop_at_penetration = false;
+    std::vector<std::optional<WorldShapeHit>> hits(shapes.size());
+    world_->shape_cast(shapes, poses, motions, cfg, hits, filter);
+    for (std::size_t i = 0; i < shapes.size() && i < out.size(); ++i)
+      out[i] = hits[i] ? std::optional(MoveCastHit<BodyId>{hits[i]->body, hits[i]->toi,
+                                                           hits[i]->point, hits[i]->normal})
+                       : std::nullopt;
+  }
+
   /// The deepest point of each body's manifold with the shape within `distance`.
   template <class Sink>
   void contacts(BodyShape const& shape, Iso3 const& pose, float distance, QueryFilter const& filter,
@@ -60,6 +79,6 @@ private:
   World const* world_;
 };
 
-static_assert(MoveQuery<WorldMoveQuery>);
+static_assert(LaneMoveQuery<WorldMoveQuery>);
 
 } // namespace plume
