@@ -2,6 +2,7 @@
 // numbers are right.
 #include <plume/plume.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -140,7 +141,17 @@ int main() {
                        1.0f / 60.0f, {}, {}, [](MoveHit<BodyId>&) { return HitResponse::accept; });
     feet = r.position;
   }
-  bool const move_ok = std::abs(2.5f - (feet.x + 0.5f) - 0.01f) < 0.002f &&
+  // The README's crowd: W capsules at the origin, each moved as alone.
+  std::array<BodyShape, lanes_v<f32xN>> walkers;
+  walkers.fill(Capsule{0.5f, 0.5f});
+  auto const moved =
+      move_and_slide_lanes<f32xN>(scene, walkers, GIso3<f32xN>{}, GVec3<f32xN>(Vec3{5, -1, 2}),
+                                  1.0f / 60.0f, {}, {}, AcceptAllHits{});
+  auto const alone = move_and_slide(scene, Capsule{0.5f, 0.5f}, Iso3{}, Vec3{5, -1, 2},
+                                    1.0f / 60.0f, {}, {}, AcceptAllHits{});
+  bool const crowd_ok = lane(moved.position.x, 0) == alone.position.x &&
+                        lane(moved.position.z, lanes_v<f32xN> - 1) == alone.position.z;
+  bool const move_ok = crowd_ok && std::abs(2.5f - (feet.x + 0.5f) - 0.01f) < 0.002f &&
                        std::abs(feet.y) < 0.002f && std::abs(feet.z - 2.0f) < 0.05f;
   std::printf("consumer: character at (%g, %g, %g)\n", feet.x, feet.y, feet.z);
   // The README's mesh and terrain bodies: a box dropped on a two-triangle floor and a crate
