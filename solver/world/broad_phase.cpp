@@ -30,7 +30,7 @@ void BvhBroadPhase::remove(std::uint32_t index) {
     unbounded_.erase(std::find(unbounded_.begin(), unbounded_.end(), index));
   } else {
     tree_of(s).remove(s.proxy);
-    if (s.kind == ProxyKind::static_body) static_changed_ = true;
+    if (s.kind == ProxyKind::static_body) static_changed_ = true, wide_fresh_ = false;
   }
   s = Slot{}; // its candidate pairs go at the next update (dead slots keep none)
 }
@@ -49,7 +49,7 @@ void BvhBroadPhase::set_box(std::uint32_t index, Aabb3 const& box, ProxyKind kin
       unbounded_.insert(std::lower_bound(unbounded_.begin(), unbounded_.end(), index), index);
     } else {
       s.proxy = tree_of(s).insert(box, index);
-      if (kind == ProxyKind::static_body) static_changed_ = true;
+      if (kind == ProxyKind::static_body) static_changed_ = true, wide_fresh_ = false;
     }
     mark_moved(index);
     return;
@@ -64,7 +64,7 @@ void BvhBroadPhase::set_box(std::uint32_t index, Aabb3 const& box, ProxyKind kin
   } else {
     s.box = box;
     if (tree_of(s).move(s.proxy, box)) {
-      if (kind == ProxyKind::static_body) static_changed_ = true;
+      if (kind == ProxyKind::static_body) static_changed_ = true, wide_fresh_ = false;
       mark_moved(index);
     }
   }
@@ -94,7 +94,13 @@ void BvhBroadPhase::update_candidates() {
     auto const consider = [&](std::uint32_t j) {
       if (j != i && bool(box.intersects(fat(j)))) fresh_.push_back(body_pair_key(i, j));
     };
-    for (ProxyKind kind : {ProxyKind::static_body, ProxyKind::kinematic, ProxyKind::dynamic}) {
+    AabbTree const& statics = trees_[std::size_t(ProxyKind::static_body)];
+    if (all)
+      query_static(box, [&](ProxyId p) {
+        consider(std::uint32_t(statics.user(p)));
+        return true;
+      });
+    for (ProxyKind kind : {ProxyKind::kinematic, ProxyKind::dynamic}) {
       if (!all && kind != ProxyKind::dynamic) continue;
       AabbTree const& t = trees_[std::size_t(kind)];
       t.query(box, [&](ProxyId p) {
@@ -115,11 +121,18 @@ void BvhBroadPhase::update_candidates() {
   candidates_.erase(std::unique(candidates_.begin(), candidates_.end()), candidates_.end());
 }
 
-void BvhBroadPhase::optimize() {
-  if (static_changed_) {
-    trees_[std::size_t(ProxyKind::static_body)].rebuild();
+void BvhBroadPhase::refresh_static() {
+  if (static_changed_ || !wide_fresh_) {
+    AabbTree& statics = trees_[std::size_t(ProxyKind::static_body)];
+    if (static_changed_) statics.rebuild();
+    static_wide_.build(statics);
     static_changed_ = false;
+    wide_fresh_ = true;
   }
+}
+
+void BvhBroadPhase::optimize() {
+  refresh_static();
   for (ProxyKind kind : {ProxyKind::kinematic, ProxyKind::dynamic})
     last_[std::size_t(kind)] = trees_[std::size_t(kind)].optimize(TreeOptimization::adaptive);
 }

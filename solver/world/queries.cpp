@@ -78,8 +78,13 @@ void World::sync_trees() const {
   for (std::uint32_t i : stale_statics_) // every new or teleported static body
     if (bodies_[i].alive) bvh_.set_box(i, grown_aabb(i), ProxyKind::static_body);
   stale_statics_.clear();
-  // Sort and sweep never asks the trees for pairs: keep their quality here.
-  if (config_.broad_phase == BroadPhaseKind::sort_and_sweep) bvh_.optimize();
+  // Sort and sweep never asks the trees for pairs: keep their quality here. The BVH broad
+  // phase optimises the moving trees in the step; the static tree and its wide copy are
+  // rebuilt now if statics changed, so that queries walk the wide copy.
+  if (config_.broad_phase == BroadPhaseKind::sort_and_sweep)
+    bvh_.optimize();
+  else
+    bvh_.refresh_static();
   trees_synced_ = true;
 }
 
@@ -96,12 +101,17 @@ void World::candidates(Aabb3 const& box, QueryFilter const& filter,
   sync_trees();
   Aabb3 const q = clamp_box(box);
   if (!bool(q.is_valid())) return;
-  for (AabbTree const* tree : bvh_.trees())
-    tree->query(q, [&](ProxyId p) {
+  for (AabbTree const* tree : bvh_.trees()) {
+    auto const take = [&](ProxyId p) {
       auto const i = std::uint32_t(tree->user(p));
       if (bool(bvh_.box(i).intersects(q)) && passes(i, filter)) out.push_back(i);
       return true;
-    });
+    };
+    if (tree == &bvh_.tree(ProxyKind::static_body))
+      bvh_.query_static(q, take); // the wide copy: most bodies of a level are static
+    else
+      tree->query(q, take);
+  }
   for (std::uint32_t i : bvh_.unbounded())
     if (bool(bvh_.box(i).intersects(q)) && passes(i, filter)) out.push_back(i);
   std::sort(out.begin(), out.end());
@@ -136,11 +146,16 @@ void World::ray_cast_all(Ray3 const& ray, float max_toi,
     RayHit const h = cast_ray(b.shape, b.pose, ray, limit);
     if (h.hit) hits.push_back({BodyId{i, bodies_[i].generation}, h.toi, ray.at(h.toi), h.normal});
   };
-  for (AabbTree const* tree : bvh_.trees())
-    tree->ray_query(ray, limit, [&](ProxyId p, float) {
+  for (AabbTree const* tree : bvh_.trees()) {
+    auto const visit = [&](ProxyId p, float) {
       test(std::uint32_t(tree->user(p)));
       return limit;
-    });
+    };
+    if (tree == &bvh_.tree(ProxyKind::static_body))
+      bvh_.ray_static(ray, limit, visit);
+    else
+      tree->ray_query(ray, limit, visit);
+  }
   for (std::uint32_t i : bvh_.unbounded())
     test(i);
   std::sort(hits.begin(), hits.end(), [](WorldRayHit const& a, WorldRayHit const& b) {
@@ -166,11 +181,16 @@ std::optional<WorldRayHit> World::ray_cast(Ray3 const& ray, float max_toi,
     limit = h.toi;
   };
   // Closest first: each tree's traversal skips boxes entered beyond the best toi so far.
-  for (AabbTree const* tree : bvh_.trees())
-    tree->ray_query(ray, limit, [&](ProxyId p, float) {
+  for (AabbTree const* tree : bvh_.trees()) {
+    auto const visit = [&](ProxyId p, float) {
       test(std::uint32_t(tree->user(p)));
       return limit;
-    });
+    };
+    if (tree == &bvh_.tree(ProxyKind::static_body))
+      bvh_.ray_static(ray, limit, visit);
+    else
+      tree->ray_query(ray, limit, visit);
+  }
   for (std::uint32_t i : bvh_.unbounded())
     test(i);
   return best;
@@ -226,6 +246,19 @@ void World::ray_cast_with(std::span<Ray3 const> rays, float max_toi,
       dir[k] = live ? rays[first + k].dir : Vec3::Y;
       limit[k] = live ? limit0 : -1.0f;
     }
+    // Rays that start far apart walk different parts of the trees: one at a time (and one lane
+    // is one ray), each ray
+    // walks the static bodies' wide copy (twice the binary tree's speed) and a packet would
+    // only visit the union of their paths. Rays from within batch_ray_spread of each other
+    // walk together.
+    Aabb3 from = Aabb3::EMPTY;
+    for (std::size_t k = 0; k < n; ++k)
+      if (limit[k] >= 0.0f) from = from.merge(Aabb3{origin[k], origin[k]});
+    if (W == 1 || !(from.max - from.min).cmple(Vec3::splat(batch_ray_spread)).all()) {
+      for (std::size_t k = 0; k < n; ++k)
+        out[first + k] = ray_cast(rays[first + k], max_toi, filter);
+      continue;
+    }
     GRay3<T> const packet{pack<T>(origin.data()), pack<T>(dir.data())};
     std::array<std::uint32_t, W> best_body;
     std::array<float, W> best_toi;
@@ -249,14 +282,16 @@ void World::ray_cast_with(std::span<Ray3 const> rays, float max_toi,
       std::visit(
           [&](auto const& s) {
             using S = std::decay_t<decltype(s)>;
-            if constexpr (is_triangle_shape_v<S> || std::is_same_v<S, ConvexHull>) {
-              // Lane by lane, as the single form (a hull's support walks its own edges).
+            if (is_triangle_shape_v<S> || std::is_same_v<S, ConvexHull> ||
+                std::popcount(lanes) == 1) {
+              // Lane by lane, as the single form: meshes, hulls (a hull's support walks its
+              // own edges), and a body only one ray reaches (one scalar cast is cheaper).
               for (std::uint64_t m = lanes; m; m &= m - 1) {
                 auto const k = std::size_t(std::countr_zero(m));
                 RayHit const h = cast_ray(b.shape, b.pose, {origin[k], dir[k]}, limit[k]);
                 if (h.hit) offer(k, i, h.toi, h.normal);
               }
-            } else {
+            } else if constexpr (!is_triangle_shape_v<S> && !std::is_same_v<S, ConvexHull>) {
               GIso3<T> const pose(b.pose);
               T const lim = plume::load_aligned<T>(limit.data());
               GRayHit<T> const h = plume::ray_cast(widen<T>(s), pose, packet, lim);
@@ -274,11 +309,13 @@ void World::ray_cast_with(std::span<Ray3 const> rays, float max_toi,
           b.shape);
     };
     T lim = plume::load_aligned<T>(limit.data());
-    for (AabbTree const* tree : bvh_.trees())
-      tree->ray_query_lanes(packet, lim, [&](ProxyId p, std::uint64_t lanes) {
+    for (AabbTree const* tree : bvh_.trees()) {
+      auto const visit = [&](ProxyId p, std::uint64_t lanes) {
         test(std::uint32_t(tree->user(p)), lanes);
         lim = plume::load_aligned<T>(limit.data());
-      });
+      };
+      tree->ray_query_lanes(packet, lim, visit);
+    }
     std::uint64_t all = 0;
     for (std::size_t k = 0; k < W; ++k)
       all |= limit[k] >= 0.0f ? std::uint64_t(1) << k : 0;

@@ -29,6 +29,7 @@
 
 #include <plume/math/aabb3.hpp>
 #include <plume/spatial/aabb_tree.hpp>
+#include <plume/spatial/wide_bvh.hpp>
 
 #include <algorithm>
 #include <array>
@@ -111,6 +112,30 @@ public:
   std::array<AabbTree const*, 3> trees() const noexcept {
     return {&trees_[0], &trees_[1], &trees_[2]};
   }
+  /// A wide copy of the static tree (lanes of children per node, as GWideBvh), rebuilt with
+  /// it: null while static bodies changed since the last optimize() (use tree() then). The
+  /// same leaves as the static tree, found in fewer, wider steps.
+  WideBvh const* static_wide() const noexcept { return wide_fresh_ ? &static_wide_ : nullptr; }
+  /// f(ProxyId) for every static leaf whose fat box meets `box`, through the wide copy when it
+  /// is fresh (in another order than the tree's); f returns false to stop.
+  template <class F>
+  void query_static(Aabb3 const& box, F&& f) const {
+    if (wide_fresh_)
+      static_wide_.query(box, f);
+    else
+      trees_[std::size_t(ProxyKind::static_body)].query(box, f);
+  }
+  /// ray_query on the static leaves, through the wide copy when it is fresh.
+  template <class F>
+  void ray_static(Ray3 const& ray, float max_toi, F&& f) const {
+    if (wide_fresh_)
+      static_wide_.ray_query(ray, max_toi, f);
+    else
+      trees_[std::size_t(ProxyKind::static_body)].ray_query(ray, max_toi, f);
+  }
+  /// Rebuilds the static tree and its wide copy if static bodies changed (optimize() does
+  /// this too; the world calls it before queries between steps).
+  void refresh_static();
   /// What the last optimisation of the kinematic and dynamic trees ran.
   TreeOptimization last_optimization(ProxyKind kind) const noexcept {
     return last_[std::size_t(kind)];
@@ -148,6 +173,8 @@ private:
   std::vector<std::uint64_t> candidates_, fresh_; ///< sorted keys; this step's new ones
   std::size_t last_queries_ = 0;
   bool static_changed_ = false;
+  WideBvh static_wide_;
+  bool wide_fresh_ = false;
   std::array<TreeOptimization, 3> last_{};
 };
 

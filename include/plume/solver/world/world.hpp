@@ -369,12 +369,16 @@ public:
   /// not as long as rays (nothing written).
   void ray_cast(std::span<Ray3 const> rays, float max_toi,
                 std::span<std::optional<WorldRayHit>> out, QueryFilter const& filter = {}) const;
-  /// The batch form, lanes_v<T> rays at a time (T one of float, f32x4, f32x8, f32x16 that the
-  /// build enables): each packet walks the trees together (AabbTree::ray_query_lanes) and
-  /// casts its lanes against a convex shape or half-space in one call of the same template
-  /// as the single form (mesh and height-field bodies: one lane at a time). Packets are
-  /// consecutive rays, so rays that start near each other and point alike (a fan, a grid of
-  /// probes) share most of their walk; incoherent rays gain less (docs/performance.md).
+  /// The batch form, lanes_v<T> consecutive rays at a time (T one of float, f32x4, f32x8,
+  /// f32x16 that the build enables). Rays that start within batch_ray_spread of each other
+  /// (a fan, a grid of probes) walk the trees as one packet (AabbTree::ray_query_lanes) and
+  /// are cast against a convex shape or half-space they share in one call of the single
+  /// form's template (meshes, hulls and a body one ray reaches: one ray at a time); rays that
+  /// start farther apart run the single form one by one, whose walk of the static bodies'
+  /// wide tree beats a packet's union of paths (docs/performance.md).
+  /// How far apart (m, on every axis) the origins of a batch's packet may be for its rays to
+  /// walk the trees together.
+  static constexpr float batch_ray_spread = 2.0f;
   template <class T>
   void ray_cast_with(std::span<Ray3 const> rays, float max_toi,
                      std::span<std::optional<WorldRayHit>> out,
