@@ -182,6 +182,32 @@ TEST_CASE("bvh broad phase: a body that stays inside its fat box queries nothing
   bvh.find_pairs(keep, pairs);
   CHECK(pairs.empty());
   CHECK(bvh.candidate_count() == 0);
+  // The static tree's wide copy: fresh after find_pairs, stale (null, queries fall back to the
+  // tree) from a static edit until the next refresh, and fresh again after it.
+  auto const statics_at = [&](Aabb3 const& q) {
+    std::vector<std::uint64_t> found;
+    bvh.query_static(q, [&](ProxyId p) {
+      found.push_back(bvh.tree(ProxyKind::static_body).user(p));
+      return true;
+    });
+    std::sort(found.begin(), found.end());
+    return found;
+  };
+  bvh.set_box(6, unit({-10, 0, 0}), ProxyKind::static_body);
+  bvh.find_pairs(keep, pairs);
+  REQUIRE(bvh.static_wide() != nullptr);
+  CHECK(statics_at(unit({-10, 0, 0})) == std::vector<std::uint64_t>{6});
+  bvh.set_box(6, unit({-20, 0, 0}), ProxyKind::static_body); // moved out of its fat box
+  CHECK(bvh.static_wide() == nullptr);
+  CHECK(statics_at(unit({-20, 0, 0})) == std::vector<std::uint64_t>{6});
+  CHECK(statics_at(unit({-10, 0, 0})).empty());
+  bvh.refresh_static();
+  REQUIRE(bvh.static_wide() != nullptr);
+  CHECK(statics_at(unit({-20, 0, 0})) == std::vector<std::uint64_t>{6});
+  bvh.remove(6);
+  CHECK(bvh.static_wide() == nullptr);
+  CHECK(statics_at(unit({-20, 0, 0})).empty());
+  bvh.find_pairs(keep, pairs);
   // An unbounded dynamic body that stays put is found by a kinematic body moving into it.
   Aabb3 slab = unit({20, 0, 0});
   slab.min.y = -std::numeric_limits<float>::infinity();
