@@ -298,3 +298,40 @@ TEST_CASE("mesh bodies: the narrow phase turns a mesh's manifolds round when the
     CHECK(same_bits(pb.separation, pa.separation));
   }
 }
+
+TEST_CASE("mesh bodies: a kinematic mesh or height field carries and lifts a box",
+          "[world][mesh][kinematic]") {
+  // A moving platform of triangles: it slides along x at 1 m/s and rises at 0.5 m/s; the box
+  // on it rides along by friction and is pushed up, never sinking into it.
+  for (int kind = 0; kind < 2; ++kind) {
+    INFO((kind == 0 ? "mesh" : "height field"));
+    World w;
+    BodyShape const shape =
+        kind == 0 ? BodyShape{MeshShape{flat_floor()}} : BodyShape{HeightFieldShape{flat_field()}};
+    CreateBodyResult const platform =
+        w.create_body({.type = BodyType::kinematic,
+                       .pose = Iso3::from_translation({-8.0f, 0.0f, -8.0f}),
+                       .linear_velocity = {1.0f, 0.0f, 0.0f},
+                       .shape = shape,
+                       .friction = 1.0f});
+    REQUIRE(platform);
+    BodyId const box = w.create_body({.pose = Iso3::from_translation({0, 0.5f, 0}),
+                                      .shape = Cuboid{Vec3::splat(0.5f)},
+                                      .friction = 1.0f})
+                           .id;
+    float lowest = 1.0f;
+    for (int s = 0; s < 180; ++s) {
+      if (s == 60) REQUIRE(w.set_velocity(platform.id, {1.0f, 0.5f, 0.0f}, {}) == BodyError::none);
+      w.step(dt);
+      float const floor_y = w.pose(platform.id).translation.y;
+      lowest = std::min(lowest, w.pose(box).translation.y - floor_y);
+    }
+    float const moved = w.pose(platform.id).translation.x + 8.0f;
+    CHECK(moved == Approx(3.0f).margin(1e-3));
+    CHECK(w.pose(box).translation.x == Approx(moved).margin(0.1));
+    CHECK(w.pose(platform.id).translation.y == Approx(1.0f).margin(1e-3));
+    CHECK(w.pose(box).translation.y == Approx(1.5f).margin(0.02));
+    CHECK(lowest > 0.48f); // never sank more than 2 cm into the moving floor
+    CHECK(w.linear_velocity(box).x == Approx(1.0f).margin(0.05));
+  }
+}
