@@ -79,12 +79,9 @@ void World::sync_trees() const {
     if (bodies_[i].alive) bvh_.set_box(i, grown_aabb(i), ProxyKind::static_body);
   stale_statics_.clear();
   // Sort and sweep never asks the trees for pairs: keep their quality here. The BVH broad
-  // phase optimises the moving trees in the step; the static tree and its wide copy are
-  // rebuilt now if statics changed, so that queries walk the wide copy.
-  if (config_.broad_phase == BroadPhaseKind::sort_and_sweep)
-    bvh_.optimize();
-  else
-    bvh_.refresh_static();
+  // phase optimises the trees in the step; until then, after static edits, queries walk the
+  // static tree itself (its wide copy is stale), so that a query never rebuilds a level.
+  if (config_.broad_phase == BroadPhaseKind::sort_and_sweep) bvh_.optimize();
   trees_synced_ = true;
 }
 
@@ -246,15 +243,19 @@ void World::ray_cast_with(std::span<Ray3 const> rays, float max_toi,
       dir[k] = live ? rays[first + k].dir : Vec3::Y;
       limit[k] = live ? limit0 : -1.0f;
     }
-    // Rays that start far apart walk different parts of the trees: one at a time (and one lane
-    // is one ray), each ray
+    // Rays that start far apart walk different parts of the trees: one at a time (as does a
+    // packet of one usable ray), each ray
     // walks the static bodies' wide copy (twice the binary tree's speed) and a packet would
     // only visit the union of their paths. Rays from within batch_ray_spread of each other
     // walk together.
     Aabb3 from = Aabb3::EMPTY;
+    std::size_t live = 0;
     for (std::size_t k = 0; k < n; ++k)
-      if (limit[k] >= 0.0f) from = from.merge(Aabb3{origin[k], origin[k]});
-    if (W == 1 || !(from.max - from.min).cmple(Vec3::splat(batch_ray_spread)).all()) {
+      if (limit[k] >= 0.0f) {
+        from = from.merge(Aabb3{origin[k], origin[k]});
+        ++live;
+      }
+    if (live < 2 || !(from.max - from.min).cmple(Vec3::splat(batch_ray_spread)).all()) {
       for (std::size_t k = 0; k < n; ++k)
         out[first + k] = ray_cast(rays[first + k], max_toi, filter);
       continue;
@@ -319,8 +320,9 @@ void World::ray_cast_with(std::span<Ray3 const> rays, float max_toi,
     std::uint64_t all = 0;
     for (std::size_t k = 0; k < W; ++k)
       all |= limit[k] >= 0.0f ? std::uint64_t(1) << k : 0;
-    for (std::uint32_t i : bvh_.unbounded())
-      test(i, all);
+    if (all)
+      for (std::uint32_t i : bvh_.unbounded())
+        test(i, all);
     for (std::size_t k = 0; k < n; ++k) {
       auto& o = out[first + k];
       o.reset();

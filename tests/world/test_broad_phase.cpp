@@ -255,6 +255,20 @@ TEST_CASE("world: the BVH and sort-and-sweep broad phases give the same world, b
                        .pose = Iso3::from_translation({-3, 0.25f, 3}),
                        .shape = Cuboid{Vec3::splat(0.25f)}});
       }
+      // The persistent pairs' risky paths: a body destroyed and its slot reused in the same
+      // step, type changes (of a frozen body too), layers that forbid and allow again.
+      if (s == 125) {
+        REQUIRE(w.destroy_body(w.body_id(3)) == BodyError::none);
+        w.create_body(
+            {.pose = Iso3::from_translation({0.3f, 5, 0.2f}), .shape = Cuboid{Vec3::splat(0.4f)}});
+      }
+      if (s == 130) REQUIRE(w.set_type(w.body_id(5), BodyType::kinematic) == BodyError::none);
+      if (s == 135) REQUIRE(w.set_type(w.body_id(5), BodyType::dynamic) == BodyError::none);
+      if (s == 137) REQUIRE(w.set_type(wild, BodyType::dynamic) == BodyError::none); // frozen
+      if (s == 140)
+        REQUIRE(w.set_layers(w.body_id(7), {.memberships = 2, .filters = 2}) == BodyError::none);
+      if (s == 145) REQUIRE(w.set_layers(w.body_id(7), {}) == BodyError::none);
+      if (s == 148) REQUIRE(w.set_type(w.body_id(6), BodyType::static_body) == BodyError::none);
       w.step(1.0f / 60.0f);
       hashes.push_back(w.state_hash());
     }

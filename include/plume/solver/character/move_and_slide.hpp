@@ -292,10 +292,6 @@ struct CastMove {
   float approach = 0.0f;     ///< dir . -normal of the hit: how straight the motion goes in
 };
 
-/// Casts the shape along `motion` (length units) with cast length |motion| + cfg.skin and
-/// returns how far it may move keeping the skin to the first hit: max(d - skin / max(dir . -n,
-/// 0.005), 0), at most |motion|, with the hit and its cast distance. Zero or non-finite
-/// motion: no hit and safe = 0.
 namespace detail {
 /// cast_move's cast: the motion cast (|motion| + skin along it), none for a zero or
 /// non-finite motion.
@@ -324,6 +320,10 @@ CastMove<Id> cast_move_result(Vec3 const& motion, std::optional<MoveCastHit<Id>>
 }
 } // namespace detail
 
+/// Casts the shape along `motion` (length units) with cast length |motion| + cfg.skin and
+/// returns how far it may move keeping the skin to the first hit: max(d - skin / max(dir . -n,
+/// 0.005), 0), at most |motion|, with the hit and its cast distance. Zero or non-finite
+/// motion: no hit and safe = 0.
 template <MoveQuery Q>
 CastMove<typename Q::collider_id>
 cast_move(Q const& query, typename Q::shape_type const& shape, Iso3 const& pose, Vec3 const& motion,
@@ -337,8 +337,8 @@ namespace detail {
 
 /// move_and_slide's loop, cut at its casts so that W characters can run it in lock step and
 /// cast together (move_and_slide_lanes) while each one takes exactly the scalar call's steps:
-/// start(); while (next_sweep()) take_cast(query.cast(shape, pose(), cast_motion, filter));
-/// finish().
+/// start(); while (next_sweep()) take_cast(cast_motion ? query.cast(shape, pose_now(),
+/// *cast_motion, filter) : std::nullopt); finish().
 template <MoveQuery Q, class OnHit>
 struct MoveAndSlideRun {
   using Id = typename Q::collider_id;

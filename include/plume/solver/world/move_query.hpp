@@ -17,6 +17,7 @@
 
 #include <optional>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 namespace plume {
@@ -35,28 +36,21 @@ public:
   /// at the start are ignored when the motion leaves them.
   std::optional<MoveCastHit<BodyId>> cast(BodyShape const& shape, Iso3 const& pose,
                                           Vec3 const& motion, QueryFilter const& filter) const {
-    ShapeCastConfig cfg;
-    cfg.max_toi = 1.0f;
-    cfg.stop_at_penetration = false;
-    std::optional<WorldShapeHit> const h = world_->shape_cast(shape, pose, motion, cfg, filter);
-    if (!h) return std::nullopt;
-    return MoveCastHit<BodyId>{h->body, h->toi, h->point, h->normal};
+    return as_move_hit(world_->shape_cast(shape, pose, motion, cast_config(), filter));
   }
 
   /// cast() for many shapes at once, through World::shape_cast (its batch form: shapes near
   /// each other are cast in lanes); each out[i] is cast(shapes[i], poses[i], motions[i]).
+  /// std::invalid_argument when the spans differ in length (nothing written).
   void cast_lanes(std::span<BodyShape const> shapes, std::span<Iso3 const> poses,
                   std::span<Vec3 const> motions, QueryFilter const& filter,
                   std::span<std::optional<MoveCastHit<BodyId>>> out) const {
-    ShapeCastConfig cfg;
-    cfg.max_toi = 1.0f;
-    cfg.stop_at_penetration = false;
+    if (out.size() != shapes.size())
+      throw std::invalid_argument("WorldMoveQuery::cast_lanes: out and shapes differ in length");
     std::vector<std::optional<WorldShapeHit>> hits(shapes.size());
-    world_->shape_cast(shapes, poses, motions, cfg, hits, filter);
-    for (std::size_t i = 0; i < shapes.size() && i < out.size(); ++i)
-      out[i] = hits[i] ? std::optional(MoveCastHit<BodyId>{hits[i]->body, hits[i]->toi,
-                                                           hits[i]->point, hits[i]->normal})
-                       : std::nullopt;
+    world_->shape_cast(shapes, poses, motions, cast_config(), hits, filter);
+    for (std::size_t i = 0; i < shapes.size(); ++i)
+      out[i] = as_move_hit(hits[i]);
   }
 
   /// The deepest point of each body's manifold with the shape within `distance`.
@@ -76,6 +70,19 @@ public:
   }
 
 private:
+  /// The casts move_and_slide asks for: t in [0, 1], starts in contact ignored when the motion
+  /// leaves them (one place, so that cast() and cast_lanes() cannot differ).
+  static ShapeCastConfig cast_config() noexcept {
+    ShapeCastConfig cfg;
+    cfg.max_toi = 1.0f;
+    cfg.stop_at_penetration = false;
+    return cfg;
+  }
+  static std::optional<MoveCastHit<BodyId>> as_move_hit(std::optional<WorldShapeHit> const& h) {
+    if (!h) return std::nullopt;
+    return MoveCastHit<BodyId>{h->body, h->toi, h->point, h->normal};
+  }
+
   World const* world_;
 };
 

@@ -352,9 +352,10 @@ public:
   // trees. Every query takes a QueryFilter; non-finite input (and a zero ray direction) finds
   // nothing. Reported in a deterministic order: by distance (toi) for the closest forms, by
   // body index for the others. Threads: a step leaves the trees synced, so queries after
-  // step() only read; after create_body, set_pose or destroy_body (or with sort and sweep)
-  // the first query updates the trees, so do not run that one concurrently. A callback or
-  // predicate must not change the world.
+  // step() only read; after create_body, set_pose, set_type (or with sort and sweep) the first
+  // query updates the trees, so do not run that one concurrently (destroy_body updates them at
+  // once). Until the next step, queries after static edits walk the static tree instead of
+  // its faster wide copy. A callback or predicate must not change the world.
 
   /// The closest body the ray hits within max_toi (ties: the lower body index).
   std::optional<WorldRayHit> ray_cast(Ray3 const& ray, float max_toi,
