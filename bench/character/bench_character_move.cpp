@@ -45,6 +45,7 @@ World const& level() {
                        .pose = Iso3::from_translation(at + Vec3{0, -1.4f, 1.5f}),
                        .shape = Cuboid{Vec3{0.5f, 0.15f, 0.5f}}});
       }
+    w.step(1.0f / 60.0f); // the step builds the static tree's wide copy the queries walk
     return w;
   }();
   return level_world;
