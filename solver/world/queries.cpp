@@ -123,6 +123,11 @@ BodyError World::set_layers(BodyId id, CollisionLayers const& layers) {
 // ------------------------------------------------------------------------ rays
 
 namespace {
+/// The closest-hit rule of every ray form: a hit replaces the best when it is nearer, or as
+/// near on a lower body index (so the answer does not depend on the order bodies are met).
+bool nearer(float toi, std::uint32_t i, float best_toi, std::uint32_t best_i) {
+  return toi < best_toi || (toi == best_toi && i < best_i);
+}
 /// Finite origin and direction, a direction that is not zero, max_toi >= 0 (not NaN).
 bool usable(Ray3 const& ray, float max_toi) {
   return bool(ray.origin.is_finite()) && bool(ray.dir.is_finite()) &&
@@ -173,7 +178,7 @@ std::optional<WorldRayHit> World::ray_cast(Ray3 const& ray, float max_toi,
     Body const& b = bodies_[i];
     RayHit const h = cast_ray(b.shape, b.pose, ray, limit);
     if (!h.hit || h.toi > limit) return;
-    if (best && (h.toi > best->toi || (h.toi == best->toi && i > best->body.index))) return;
+    if (best && !nearer(h.toi, i, best->toi, best->body.index)) return;
     best = WorldRayHit{BodyId{i, bodies_[i].generation}, h.toi, ray.at(h.toi), h.normal};
     limit = h.toi;
   };
@@ -199,26 +204,40 @@ void World::ray_cast(std::span<Ray3 const> rays, float max_toi,
 }
 
 namespace {
-/// A body's shape in every lane of T (the shapes the batch ray cast runs wide).
-template <class T>
-GSphere<T> widen(Sphere const& s) {
-  return {T(s.radius)};
+/// A shape of kind S in the lanes of T, lane k from at(k) (sizes may differ by lane): the
+/// batch queries' query shapes, and a body's shape in every lane.
+template <class T, class S, class At>
+auto shape_lanes(At&& at) {
+  constexpr std::size_t W = lanes_v<T>;
+  std::array<float, W> a{}, b{}, c{};
+  for (std::size_t k = 0; k < W; ++k) {
+    S const& s = at(k);
+    if constexpr (std::is_same_v<S, Sphere>) {
+      a[k] = s.radius;
+    } else if constexpr (std::is_same_v<S, Cuboid>) {
+      a[k] = s.half_extents.x, b[k] = s.half_extents.y, c[k] = s.half_extents.z;
+    } else if constexpr (std::is_same_v<S, HalfSpace>) {
+      a[k] = s.normal.x, b[k] = s.normal.y, c[k] = s.normal.z;
+    } else { // capsule, cylinder
+      a[k] = s.half_height, b[k] = s.radius;
+    }
+  }
+  auto const lanes = [](std::array<float, W> const& v) { return plume::load<T>(v.data()); };
+  if constexpr (std::is_same_v<S, Sphere>)
+    return GSphere<T>{lanes(a)};
+  else if constexpr (std::is_same_v<S, Cuboid>)
+    return GCuboid<T>{GVec3<T>{lanes(a), lanes(b), lanes(c)}};
+  else if constexpr (std::is_same_v<S, HalfSpace>)
+    return GHalfSpace<T>{GVec3<T>{lanes(a), lanes(b), lanes(c)}};
+  else if constexpr (std::is_same_v<S, Capsule>)
+    return GCapsule<T>{lanes(a), lanes(b)};
+  else
+    return GCylinder<T>{lanes(a), lanes(b)};
 }
-template <class T>
-GCapsule<T> widen(Capsule const& s) {
-  return {T(s.half_height), T(s.radius)};
-}
-template <class T>
-GCuboid<T> widen(Cuboid const& s) {
-  return {GVec3<T>(s.half_extents)};
-}
-template <class T>
-GCylinder<T> widen(Cylinder const& s) {
-  return {T(s.half_height), T(s.radius)};
-}
-template <class T>
-GHalfSpace<T> widen(HalfSpace const& s) {
-  return {GVec3<T>(s.normal)};
+/// A body's shape in every lane of T.
+template <class T, class S>
+auto widen(S const& s) {
+  return shape_lanes<T, S>([&](std::size_t) -> S const& { return s; });
 }
 } // namespace
 
@@ -243,11 +262,10 @@ void World::ray_cast_with(std::span<Ray3 const> rays, float max_toi,
       dir[k] = live ? rays[first + k].dir : Vec3::Y;
       limit[k] = live ? limit0 : -1.0f;
     }
-    // Rays that start far apart walk different parts of the trees: one at a time (as does a
-    // packet of one usable ray), each ray
-    // walks the static bodies' wide copy (twice the binary tree's speed) and a packet would
-    // only visit the union of their paths. Rays from within batch_ray_spread of each other
-    // walk together.
+    // Rays that start far apart walk different parts of the trees, and a packet would visit
+    // the union of their paths: they (and a packet of one usable ray) run the single form,
+    // which walks the static bodies' wide copy. Rays from within batch_ray_spread of each
+    // other walk together.
     Aabb3 from = Aabb3::EMPTY;
     std::size_t live = 0;
     for (std::size_t k = 0; k < n; ++k)
@@ -269,9 +287,7 @@ void World::ray_cast_with(std::span<Ray3 const> rays, float max_toi,
     // near on a lower body index, becomes the best and the new limit.
     auto const offer = [&](std::size_t k, std::uint32_t i, float toi, Vec3 const& normal) {
       if (toi > limit[k]) return;
-      if (best_body[k] != ~std::uint32_t(0) &&
-          (toi > best_toi[k] || (toi == best_toi[k] && i > best_body[k])))
-        return;
+      if (best_body[k] != ~std::uint32_t(0) && !nearer(toi, i, best_toi[k], best_body[k])) return;
       best_body[k] = i;
       best_toi[k] = toi;
       best_normal[k] = normal;
@@ -296,7 +312,7 @@ void World::ray_cast_with(std::span<Ray3 const> rays, float max_toi,
               GIso3<T> const pose(b.pose);
               T const lim = plume::load_aligned<T>(limit.data());
               GRayHit<T> const h = plume::ray_cast(widen<T>(s), pose, packet, lim);
-              alignas(64) std::array<float, W> toi, nx, ny, nz;
+              alignas(64) std::array<float, W> toi, nx, ny, nz; // stored once, read by lane
               plume::store_aligned(toi.data(), h.toi);
               plume::store_aligned(nx.data(), h.normal.x);
               plume::store_aligned(ny.data(), h.normal.y);
@@ -362,6 +378,20 @@ Aabb3 swept_box(Q const& q, Iso3 const& pose, Vec3 const& motion, ShapeCastConfi
   return start.merge(end).grow(cfg.target_distance);
 }
 
+/// A convex body's hit from lane k of a shape cast (the query shape is A, the body B): the
+/// point on the body, the normal out of it; none for a miss or failed input.
+template <class T>
+std::optional<WorldShapeHit> body_hit(GShapeCastHit<T> const& c, std::size_t k) {
+  if (!(plume::bitmask(c.hit) >> k & 1) || (plume::bitmask(c.failed) >> k & 1)) return {};
+  WorldShapeHit h{};
+  h.toi = plume::lane(c.toi, k);
+  h.point = {plume::lane(c.point_b.x, k), plume::lane(c.point_b.y, k), plume::lane(c.point_b.z, k)};
+  h.normal = -Vec3{plume::lane(c.normal.x, k), plume::lane(c.normal.y, k),
+                   plume::lane(c.normal.z, k)}; // out of the body, toward the cast shape
+  h.penetrating = bool(plume::bitmask(c.penetrating) >> k & 1);
+  return h;
+}
+
 /// The convex shape q at `pose`, moving by t motion, against one body's shape at body_pose
 /// (hit: toi, the point on the body, the normal out of it; the body id is the caller's).
 template <class Q>
@@ -402,13 +432,10 @@ std::optional<WorldShapeHit> cast_against_body(BodyShape const& body, Iso3 const
             h.normal = c.normal;
             h.penetrating = c.penetrating;
           } else if constexpr (!std::is_same_v<S, HalfSpace>) {
-            ShapeCastHit const c = plume::shape_cast(q, pose, motion, s, body_pose, cfg);
-            if (!c.hit || c.failed) return;
+            auto const c = body_hit(plume::shape_cast(q, pose, motion, s, body_pose, cfg), 0);
+            if (!c) return;
             hit = true;
-            h.toi = c.toi;
-            h.point = c.point_b;
-            h.normal = -c.normal; // out of the body, toward the cast shape
-            h.penetrating = bool(c.penetrating);
+            h = *c;
           }
         },
         body);
@@ -422,39 +449,6 @@ std::optional<WorldShapeHit> cast_against_body(BodyShape const& body, Iso3 const
 template <class S>
 inline constexpr bool lane_shape_v = std::is_same_v<S, Sphere> || std::is_same_v<S, Capsule> ||
                                      std::is_same_v<S, Cuboid> || std::is_same_v<S, Cylinder>;
-
-template <class T, std::size_t W>
-T lanes_of(std::array<float, W> const& a) {
-  alignas(64) std::array<float, W> b = a;
-  return plume::load_aligned<T>(b.data());
-}
-
-/// Lanes [0, W) of shapes of kind S (lanes past n repeat lane 0).
-template <class T, class S, std::size_t W>
-auto pack_shapes(BodyShape const* shapes, std::size_t n) {
-  auto const at = [&](std::size_t k) -> S const& { return std::get<S>(shapes[k < n ? k : 0]); };
-  std::array<float, W> a{}, b{}, c{};
-  for (std::size_t k = 0; k < W; ++k) {
-    if constexpr (std::is_same_v<S, Sphere>) {
-      a[k] = at(k).radius;
-    } else if constexpr (std::is_same_v<S, Cuboid>) {
-      a[k] = at(k).half_extents.x;
-      b[k] = at(k).half_extents.y;
-      c[k] = at(k).half_extents.z;
-    } else {
-      a[k] = at(k).half_height;
-      b[k] = at(k).radius;
-    }
-  }
-  if constexpr (std::is_same_v<S, Sphere>)
-    return GSphere<T>{lanes_of<T>(a)};
-  else if constexpr (std::is_same_v<S, Cuboid>)
-    return GCuboid<T>{GVec3<T>{lanes_of<T>(a), lanes_of<T>(b), lanes_of<T>(c)}};
-  else if constexpr (std::is_same_v<S, Capsule>)
-    return GCapsule<T>{lanes_of<T>(a), lanes_of<T>(b)};
-  else
-    return GCylinder<T>{lanes_of<T>(a), lanes_of<T>(b)};
-}
 
 } // namespace
 
@@ -543,7 +537,9 @@ void World::shape_cast_with(std::span<BodyShape const> shapes, std::span<Iso3 co
             // Each body once, with the lanes that have it, in increasing body index (the
             // order each lane's single form visits them).
             std::sort(lane_of.begin(), lane_of.end());
-            auto const lanes_shape = pack_shapes<T, S, W>(&shapes[first], n);
+            auto const lanes_shape = shape_lanes<T, S>([&](std::size_t k) -> S const& {
+              return std::get<S>(shapes[first + (k < n ? k : 0)]); // the tail repeats lane 0
+            });
             std::array<Quat, W> rot;
             std::array<Vec3, W> at;
             for (std::size_t k = 0; k < W; ++k) {
@@ -579,24 +575,9 @@ void World::shape_cast_with(std::span<BodyShape const> shapes, std::span<Iso3 co
                       GShapeCastHit<T> const c =
                           plume::shape_cast(lanes_shape, lanes_pose, lanes_motion, widen<T>(bs),
                                             GIso3<T>(b.pose), cfg);
-                      alignas(64) std::array<float, W> toi, px, py, pz, nx, ny, nz;
-                      plume::store_aligned(toi.data(), c.toi);
-                      plume::store_aligned(px.data(), c.point_b.x);
-                      plume::store_aligned(py.data(), c.point_b.y);
-                      plume::store_aligned(pz.data(), c.point_b.z);
-                      plume::store_aligned(nx.data(), c.normal.x);
-                      plume::store_aligned(ny.data(), c.normal.y);
-                      plume::store_aligned(nz.data(), c.normal.z);
-                      std::uint64_t const pen = plume::bitmask(c.penetrating);
-                      std::uint64_t const hits =
-                          lanes & plume::bitmask(c.hit) & ~plume::bitmask(c.failed);
-                      for (std::uint64_t m = hits; m; m &= m - 1) {
+                      for (std::uint64_t m = lanes; m; m &= m - 1) {
                         auto const k = std::size_t(std::countr_zero(m));
-                        offer(k, WorldShapeHit{id,
-                                               toi[k],
-                                               {px[k], py[k], pz[k]},
-                                               -Vec3{nx[k], ny[k], nz[k]},
-                                               bool(pen >> k & 1)});
+                        if (auto const h = body_hit(c, k)) offer(k, *h);
                       }
                     } else { // half-spaces, hulls, meshes: lane by lane, as the single form
                       for (std::uint64_t m = lanes; m; m &= m - 1) {

@@ -861,4 +861,22 @@ TEST_CASE("move and slide: W characters in lanes move exactly as each one alone"
   CHECK_THROWS_AS(move_and_slide_lanes<float>(scene, std::span<BodyShape const>(two), Iso3{},
                                               Vec3{}, dt, {}, {}, AcceptAllHits{}),
                   std::invalid_argument);
+  // cast_lanes: spans of different lengths are refused, nothing written; each answer is cast()'s.
+  std::vector<Iso3> at(2, Iso3::from_translation({0, 0, 0}));
+  std::vector<Vec3> go{{10, 0, 0}, {0, 0, 10}};
+  std::vector<std::optional<MoveCastHit<BodyId>>> one_out(1);
+  CHECK_THROWS_AS(scene.cast_lanes(two, at, go, {}, one_out), std::invalid_argument);
+  CHECK(!one_out[0]);
+  std::vector<std::optional<MoveCastHit<BodyId>>> out(2);
+  scene.cast_lanes(two, at, go, {}, out);
+  for (std::size_t k = 0; k < 2; ++k) {
+    auto const single = scene.cast(two[k], at[k], go[k], {});
+    REQUIRE(out[k].has_value() == single.has_value());
+    if (single) {
+      CHECK(out[k]->collider == single->collider);
+      CHECK(test::same_bits(out[k]->toi, single->toi));
+      CHECK(test::same_bits(out[k]->normal, single->normal));
+    }
+  }
+  CHECK(out[0].has_value()); // the wall at x = 3.5
 }

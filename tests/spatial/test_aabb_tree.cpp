@@ -975,4 +975,13 @@ TEST_CASE("tree: a packet of rays meets, lane by lane, the leaves each ray meets
   };
   check.template operator()<float>();
   for_each_type<f32_widths>(check);
+  // An empty tree meets nothing, and bad lanes are marked out of the walk (max_toi -1).
+  GAabbTree<float> const empty;
+  float lim = 5.0f;
+  empty.ray_query_lanes(GRay3<float>{{0, 0, 0}, {1, 0, 0}}, lim,
+                        [](ProxyId, std::uint64_t) { FAIL("an empty tree met a leaf"); });
+  float bad = 5.0f;
+  tree.ray_query_lanes(GRay3<float>{{0, 0, 0}, {0, 0, 0}}, bad,
+                       [](ProxyId, std::uint64_t) { FAIL("a zero direction met a leaf"); });
+  CHECK(bad == -1.0f);
 }

@@ -136,7 +136,7 @@ TEST_CASE("bvh broad phase: the pairs brute force finds, through moves and kind 
     in_trees += t->size();
   CHECK(in_trees + bvh.unbounded().size() <= n);
   // Statics and creeping bodies query nothing: fewer queries than bodies per call.
-  CHECK(queries < calls * n * 3 / 4);
+  CHECK(queries < calls * n * 2 / 5); // about a third of the bodies move out per call
 }
 
 TEST_CASE("bvh broad phase: a body that stays inside its fat box queries nothing",

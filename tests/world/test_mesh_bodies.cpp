@@ -328,10 +328,10 @@ TEST_CASE("mesh bodies: a kinematic mesh or height field carries and lifts a box
     }
     float const moved = w.pose(platform.id).translation.x + 8.0f;
     CHECK(moved == Approx(3.0f).margin(1e-3));
-    CHECK(w.pose(box).translation.x == Approx(moved).margin(0.1));
+    CHECK(w.pose(box).translation.x == Approx(moved).margin(0.06)); // it slips 5 cm starting
     CHECK(w.pose(platform.id).translation.y == Approx(1.0f).margin(1e-3));
-    CHECK(w.pose(box).translation.y == Approx(1.5f).margin(0.02));
-    CHECK(lowest > 0.48f); // never sank more than 2 cm into the moving floor
-    CHECK(w.linear_velocity(box).x == Approx(1.0f).margin(0.05));
+    CHECK(w.pose(box).translation.y == Approx(1.5f).margin(0.002));
+    CHECK(lowest > 0.495f); // never sank 5 mm into the moving floor
+    CHECK(w.linear_velocity(box).x == Approx(1.0f).margin(0.005));
   }
 }

@@ -281,6 +281,17 @@ TEST_CASE(
   std::vector<Ray3> none;
   std::vector<std::optional<WorldRayHit>> none_out;
   w.ray_cast(none, 20.0f, none_out); // empty spans: nothing to do
+  // A NaN or negative max_toi finds nothing, as the single form (every width).
+  for (float bad : {std::numeric_limits<float>::quiet_NaN(), -1.0f}) {
+    auto const none_found = [&]<class T>() {
+      std::vector<std::optional<WorldRayHit>> cleared(rays.size(), WorldRayHit{});
+      w.ray_cast_with<T>(rays, bad, cleared);
+      CHECK(std::none_of(cleared.begin(), cleared.end(),
+                         [](auto const& h) { return h.has_value(); }));
+    };
+    none_found.template operator()<float>();
+    for_each_type<test::f32_wide_types>(none_found);
+  }
 }
 
 TEST_CASE("world queries: points, boxes and shapes against brute force", "[world][queries]") {
@@ -668,4 +679,19 @@ TEST_CASE("world queries: the batch shape cast is the single one per query, bit 
   CHECK_THROWS_AS(w.shape_cast(shapes, poses, fewer, ShapeCastConfig{}, out),
                   std::invalid_argument);
   CHECK(std::none_of(out.begin(), out.end(), [](auto const& h) { return h.has_value(); }));
+  // A configuration the single form refuses (NaN or negative max_toi or target distance)
+  // finds nothing in any lane, and clears what out held.
+  for (int bad = 0; bad < 3; ++bad) {
+    ShapeCastConfig cfg;
+    if (bad == 0) cfg.max_toi = std::numeric_limits<float>::quiet_NaN();
+    if (bad == 1) cfg.max_toi = -1.0f;
+    if (bad == 2) cfg.target_distance = -0.1f;
+    auto const none_found = [&]<class T>() {
+      std::vector<std::optional<WorldShapeHit>> got(shapes.size(), WorldShapeHit{});
+      w.shape_cast_with<T>(shapes, poses, motions, cfg, got);
+      CHECK(std::none_of(got.begin(), got.end(), [](auto const& h) { return h.has_value(); }));
+    };
+    none_found.template operator()<float>();
+    for_each_type<test::f32_wide_types>(none_found);
+  }
 }

@@ -273,10 +273,13 @@ private:
 /// Entry and exit of a ray (origin o, direction with reciprocal inv, sign `neg` per axis)
 /// into box b, clipped to [0, max_toi]: NaN crossings (an origin on a plane of a slab it lies
 /// in, with a zero direction on that axis) are skipped, so they never turn a hit into a miss.
-template <Real T>
+/// Sign is bool (one ray: every lane of T tests the same ray against other boxes) or mask_t<T>
+/// (a ray per lane, each with its own signs); the arithmetic is the same, so a lane of the
+/// second gives the first's entry and verdict bit for bit.
+template <Real T, class Sign = bool>
 struct ray_slab_setup {
   GVec3<T> origin, inv;
-  bool neg[3];
+  Sign neg[3];
 };
 template <Real T>
 PLUME_INLINE ray_slab_setup<T> make_ray_slab(GVec3<T> const& origin, GVec3<T> const& dir,
@@ -284,16 +287,33 @@ PLUME_INLINE ray_slab_setup<T> make_ray_slab(GVec3<T> const& origin, GVec3<T> co
   T const one = plume::one<T>();
   return {origin, {one / dir.x, one / dir.y, one / dir.z}, {neg[0], neg[1], neg[2]}};
 }
-/// The box entry distance (>= 0) where the ray meets box [lo, hi] before max_toi, and a mask.
+/// A ray per lane: each lane's signs from its direction (inv < 0 is signbit(dir), 1/-0 being
+/// -inf).
 template <Real T>
-PLUME_INLINE mask_t<T> ray_enters(ray_slab_setup<T> const& r, GVec3<T> const& lo,
+PLUME_INLINE ray_slab_setup<T, mask_t<T>> make_ray_slab_lanes(GVec3<T> const& origin,
+                                                              GVec3<T> const& dir) noexcept {
+  T const one = plume::one<T>(), zero = plume::zero<T>();
+  GVec3<T> const inv{one / dir.x, one / dir.y, one / dir.z};
+  return {origin, inv, {inv.x < zero, inv.y < zero, inv.z < zero}};
+}
+/// `neg ? hi : lo`, per lane for a mask.
+template <Real T, class Sign>
+PLUME_INLINE T slab_pick(Sign neg, T const& hi, T const& lo) noexcept {
+  if constexpr (std::is_same_v<Sign, bool>)
+    return neg ? hi : lo;
+  else
+    return plume::select(neg, hi, lo);
+}
+/// The box entry distance (>= 0) where the ray meets box [lo, hi] before max_toi, and a mask.
+template <Real T, class Sign>
+PLUME_INLINE mask_t<T> ray_enters(ray_slab_setup<T, Sign> const& r, GVec3<T> const& lo,
                                   GVec3<T> const& hi, T max_toi, T& entry) noexcept {
-  T const nx = ((r.neg[0] ? hi.x : lo.x) - r.origin.x) * r.inv.x;
-  T const fx = ((r.neg[0] ? lo.x : hi.x) - r.origin.x) * r.inv.x;
-  T const ny = ((r.neg[1] ? hi.y : lo.y) - r.origin.y) * r.inv.y;
-  T const fy = ((r.neg[1] ? lo.y : hi.y) - r.origin.y) * r.inv.y;
-  T const nz = ((r.neg[2] ? hi.z : lo.z) - r.origin.z) * r.inv.z;
-  T const fz = ((r.neg[2] ? lo.z : hi.z) - r.origin.z) * r.inv.z;
+  T const nx = (slab_pick(r.neg[0], hi.x, lo.x) - r.origin.x) * r.inv.x;
+  T const fx = (slab_pick(r.neg[0], lo.x, hi.x) - r.origin.x) * r.inv.x;
+  T const ny = (slab_pick(r.neg[1], hi.y, lo.y) - r.origin.y) * r.inv.y;
+  T const fy = (slab_pick(r.neg[1], lo.y, hi.y) - r.origin.y) * r.inv.y;
+  T const nz = (slab_pick(r.neg[2], hi.z, lo.z) - r.origin.z) * r.inv.z;
+  T const fz = (slab_pick(r.neg[2], lo.z, hi.z) - r.origin.z) * r.inv.z;
   // max_select/min_select return their second argument for a NaN first one.
   T const tn = plume::max_select(nz, plume::max_select(ny, plume::max_select(nx, zero<T>())));
   T const tf = plume::min_select(fz, plume::min_select(fy, plume::min_select(fx, max_toi)));
@@ -373,25 +393,15 @@ void GAabbTree<S>::ray_query_lanes(GRay3<T> const& rays, T& max_toi, F&& f) cons
   static_assert(std::is_same_v<scalar_t<T>, S>, "rays of the tree's scalar type");
   if (root_ == null_node) return;
   T const zero_t = zero<T>(), one_t = one<T>();
-  GVec3<T> const d = rays.dir, o = rays.origin;
+  GVec3<T> const d = rays.dir;
   mask_t<T> const usable =
       detail::ray_valid(rays) & ((d.x != zero_t) | (d.y != zero_t) | (d.z != zero_t));
   max_toi = plume::select(usable & (max_toi >= zero_t), max_toi, -one_t);
-  GVec3<T> const inv{one_t / d.x, one_t / d.y, one_t / d.z};
-  // Per lane, ray_enters' arithmetic with that lane's signs (inv < 0 is signbit(dir): 1/-0 is
-  // -inf), so every lane's entry and verdict equal the one-ray traversal's.
-  mask_t<T> const nx = inv.x < zero_t, ny = inv.y < zero_t, nz = inv.z < zero_t;
+  // ray_query's slab test with each lane's own signs: each lane's entry and verdict are the
+  // one-ray walk's.
+  auto const r = detail::make_ray_slab_lanes(rays.origin, d);
   auto const enters = [&](Box const& b, T& entry) {
-    T const ex = (plume::select(nx, T(b.max.x), T(b.min.x)) - o.x) * inv.x;
-    T const fx = (plume::select(nx, T(b.min.x), T(b.max.x)) - o.x) * inv.x;
-    T const ey = (plume::select(ny, T(b.max.y), T(b.min.y)) - o.y) * inv.y;
-    T const fy = (plume::select(ny, T(b.min.y), T(b.max.y)) - o.y) * inv.y;
-    T const ez = (plume::select(nz, T(b.max.z), T(b.min.z)) - o.z) * inv.z;
-    T const fz = (plume::select(nz, T(b.min.z), T(b.max.z)) - o.z) * inv.z;
-    T const tn = plume::max_select(ez, plume::max_select(ey, plume::max_select(ex, zero_t)));
-    T const tf = plume::min_select(fz, plume::min_select(fy, plume::min_select(fx, max_toi)));
-    entry = tn;
-    return tn <= tf;
+    return detail::ray_enters(r, GVec3<T>(b.min), GVec3<T>(b.max), max_toi, entry);
   };
   S const inf = std::numeric_limits<S>::infinity();
   auto const nearest = [&](T const& entry, mask_t<T> const& m) {
