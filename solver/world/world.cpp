@@ -257,6 +257,25 @@ BodyError World::set_velocity(BodyId id, Vec3 const& linear, Vec3 const& angular
   return BodyError::none;
 }
 
+Vec3 World::velocity_at(BodyId id, Vec3 const& point) const {
+  Body const& b = body(id);
+  if (b.type == BodyType::static_body) return {};
+  BodyState const& s = states_[id.index];
+  return s.linear_velocity + s.angular_velocity.cross(point - b.center);
+}
+
+BodyError World::apply_impulse(BodyId id, Vec3 const& impulse, Vec3 const& point) {
+  if (!is_alive(id)) return BodyError::bad_body;
+  if (!finite(impulse) || !finite(point)) return BodyError::non_finite;
+  Body const& b = bodies_[id.index];
+  if (!b.is_dynamic()) return BodyError::none;
+  Mat3 const inv_inertia = b.inv_inertia_local.rotate_inertia(Mat3::from_quat(b.pose.rotation));
+  BodyState& s = states_[id.index];
+  s.linear_velocity = s.linear_velocity + impulse * b.inv_mass;
+  s.angular_velocity = s.angular_velocity + inv_inertia.mul_vec3((point - b.center).cross(impulse));
+  return BodyError::none;
+}
+
 double World::kinetic_energy() const {
   double e = 0.0;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -154,6 +155,28 @@ int main() {
   bool const move_ok = crowd_ok && std::abs(2.5f - (feet.x + 0.5f) - 0.01f) < 0.002f &&
                        std::abs(feet.y) < 0.002f && std::abs(feet.z - 2.0f) < 0.05f;
   std::printf("consumer: character at (%g, %g, %g)\n", feet.x, feet.y, feet.z);
+  // The README's controller: walks at the wall, jumps on the way, ends on the floor against
+  // the wall, and crouches.
+  CharacterController hero(level, {.shape = Capsule{0.5f, 0.3f}, .position = {0, -0.2f, 0}});
+  bool jumped = false;
+  for (int frame = 0; frame < 120; ++frame) {
+    level.step(1.0f / 60.0f);
+    Vec3 const walk{3, 0, 0};
+    Vec3 v = hero.velocity();
+    if (hero.on_ground())
+      v = walk + (frame == 30 ? hero.up() * 5.0f : Vec3{});
+    else
+      v = v + level.config().gravity * (1.0f / 60.0f);
+    hero.set_velocity(v);
+    hero.update(level, 1.0f / 60.0f);
+    jumped = jumped || hero.position().y > 0.5f;
+  }
+  bool const crouched = hero.set_shape(level, Capsule{0.1f, 0.3f}) == CharacterError::none;
+  bool const hero_ok = jumped && crouched && hero.on_ground() &&
+                       std::abs(hero.position().x - (2.5f - 0.3f - 0.01f)) < 0.002f &&
+                       std::abs(hero.position().y - (-1.01f + 0.4f + 0.01f)) < 0.002f;
+  std::printf("consumer: hero at (%g, %g), %s\n", hero.position().x, hero.position().y,
+              std::string(to_string(hero.ground_state())).c_str());
   // The README's mesh and terrain bodies: a box dropped on a two-triangle floor and a crate
   // on a 3 x 3 height field settle on them.
   std::vector<Vec3> const floor_v{{-4, 0, -4}, {4, 0, -4}, {-4, 0, 4}, {4, 0, 4}};
@@ -168,14 +191,14 @@ int main() {
       {.type = BodyType::static_body,
        .pose = Iso3::from_translation({10, 0, -4}),
        .shape = HeightFieldShape{std::make_shared<HeightField const>(terrain.field)}});
-  BodyId const on_mesh =
-      grounds.create_body({.pose = Iso3::from_translation({0.5f, 1, 0.5f}),
-                           .shape = Cuboid{Vec3::splat(0.5f)}})
-          .id;
-  BodyId const on_field =
-      grounds.create_body({.pose = Iso3::from_translation({14, 1, 0}),
-                           .shape = Cuboid{Vec3::splat(0.5f)}})
-          .id;
+  BodyId const on_mesh = grounds
+                             .create_body({.pose = Iso3::from_translation({0.5f, 1, 0.5f}),
+                                           .shape = Cuboid{Vec3::splat(0.5f)}})
+                             .id;
+  BodyId const on_field = grounds
+                              .create_body({.pose = Iso3::from_translation({14, 1, 0}),
+                                            .shape = Cuboid{Vec3::splat(0.5f)}})
+                              .id;
   for (int i = 0; i < 120; ++i)
     grounds.step(1.0f / 60.0f);
   bool const ground_ok = floor_built.ok() && terrain.ok() &&
@@ -184,7 +207,7 @@ int main() {
   std::printf("consumer: boxes on a mesh and a height field at y = %g, %g\n",
               grounds.pose(on_mesh).translation.y, grounds.pose(on_field).translation.y);
   return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok && solver_ok &&
-          ray_ok && contact_ok && world_ok && spatial_ok && move_ok && ground_ok)
+          ray_ok && contact_ok && world_ok && spatial_ok && move_ok && ground_ok && hero_ok)
              ? 0
              : 1;
 }

@@ -529,3 +529,64 @@ TEST_CASE("world: set_type keeps every width stepping the same world", "[world][
   for_each_type<test::f32_wide_types>(
       [&]<class T>() { CHECK(run(std::type_identity<T>{}) == scalar); });
 }
+
+TEST_CASE("world: apply_impulse changes a dynamic body's velocities by J / m and I^-1 (r x J); "
+          "velocity_at reads them back",
+          "[world][impulse]") {
+  World w;
+  // A 2 x 1 x 4 m box of 500 kg/m^3 (4,000 kg), turned, so the world inertia is not diagonal.
+  Quat const turn = Quat::from_axis_angle(Vec3{1, 2, 3}.normalize(), 0.7f);
+  BodyId const box =
+      w.create_body(
+           {.pose = Iso3{turn, {1, 2, 3}}, .shape = Cuboid{{1, 0.5f, 2}}, .density = 500.0f})
+          .id;
+  float const m = w.mass(box);
+  REQUIRE(m == Approx(4000.0f));
+  Vec3 const c = w.center_of_mass(box);
+  Vec3 const j{30, -40, 120}, at = c + Vec3{0.5f, 0.25f, -1.5f};
+  REQUIRE(w.apply_impulse(box, j, at) == BodyError::none);
+  // Independent: the inertia in the box's frame (m/12 (b^2 + c^2) ...), rotated, inverted.
+  DMat3 const r = DMat3::from_quat(DQuat{turn.x, turn.y, turn.z, turn.w});
+  double const a2 = 4, b2 = 1, c2 = 16, md = m;
+  DMat3 const local =
+      DMat3::from_diagonal({md / 12 * (b2 + c2), md / 12 * (a2 + c2), md / 12 * (a2 + b2)});
+  DMat3 const world_i = r * local * r.transpose();
+  DVec3 const rj = DVec3{0.5, 0.25, -1.5}.cross(DVec3{30, -40, 120});
+  DVec3 const want_w = world_i.inverse() * rj;
+  Vec3 const v = w.linear_velocity(box), om = w.angular_velocity(box);
+  CHECK(v.x == Approx(30.0 / md).epsilon(1e-5));
+  CHECK(v.y == Approx(-40.0 / md).epsilon(1e-5));
+  CHECK(v.z == Approx(120.0 / md).epsilon(1e-5));
+  CHECK(om.x == Approx(want_w.x).epsilon(1e-4));
+  CHECK(om.y == Approx(want_w.y).epsilon(1e-4));
+  CHECK(om.z == Approx(want_w.z).epsilon(1e-4));
+  // velocity_at: v + w x (p - c).
+  Vec3 const p = c + Vec3{0, 3, 0};
+  Vec3 const want_p = v + om.cross(Vec3{0, 3, 0});
+  Vec3 const got_p = w.velocity_at(box, p);
+  CHECK(got_p.x == want_p.x);
+  CHECK(got_p.y == want_p.y);
+  CHECK(got_p.z == want_p.z);
+
+  // Static and kinematic bodies take no impulse; bad input changes nothing.
+  BodyId const ground =
+      w.create_body({.type = BodyType::static_body, .shape = HalfSpace{Vec3::Y}}).id;
+  BodyId const mover = w.create_body({.type = BodyType::kinematic, .shape = Sphere{1.0f}}).id;
+  w.set_velocity(mover, {1, 0, 0}, {0, 2, 0});
+  CHECK(w.apply_impulse(ground, j, at) == BodyError::none);
+  CHECK(w.apply_impulse(mover, j, at) == BodyError::none);
+  CHECK(w.linear_velocity(mover).x == 1.0f);
+  CHECK(w.angular_velocity(mover).y == 2.0f);
+  CHECK(w.velocity_at(ground, at).length() == 0.0f);
+  CHECK(w.velocity_at(mover, Vec3{0, 0, 1}).x == Approx(1.0f + 2.0f)); // w x r = (0,2,0) x (0,0,1)
+  CHECK(w.apply_impulse(box, {NAN, 0, 0}, at) == BodyError::non_finite);
+  CHECK(w.apply_impulse(box, j, {0, INFINITY, 0}) == BodyError::non_finite);
+  CHECK(w.apply_impulse(BodyId{12345, 0}, j, at) == BodyError::bad_body);
+  CHECK(w.linear_velocity(box).x == v.x);
+  CHECK_THROWS_AS(w.velocity_at(BodyId{12345, 0}, at), std::out_of_range);
+  // An impulse through the centre of mass turns nothing.
+  World plain;
+  BodyId const ball = plain.create_body({.shape = Sphere{0.5f}}).id;
+  plain.apply_impulse(ball, {1, 2, 3}, plain.center_of_mass(ball));
+  CHECK(plain.angular_velocity(ball).length() == 0.0f);
+}

@@ -38,7 +38,8 @@
 //    touched (hit.touching);
 //  - ignore: the plane does not clip (the sweep still stops at the hit);
 //  - abort: no more sweeps (the final depenetration still runs).
-// hit.position and hit.velocity are the shape's at that moment; changes are kept.
+// hit.position and hit.velocity are the shape's at that moment; changes are kept. The callback
+// may also add a second plane for an accepted, touched hit (hit.extra_normal).
 //
 // Bad input: a non-finite pose, velocity or dt, or a negative dt, returns the input unchanged
 // with invalid_input set (nothing is queried). dt = 0, or a sweep shorter than cfg.min_sweep
@@ -151,6 +152,10 @@ struct MoveHit {
   /// Within skin + touch_tolerance: only a touched plane clips the velocity (a sweep's hit is
   /// always touched).
   bool touching = true;
+  /// A second plane the callback may add for this hit (unit; zero, the default, adds none):
+  /// it clips the velocity with hit.normal when the hit is accepted and touched. A character
+  /// controller adds a vertical wall in front of a slope too steep to climb this way.
+  Vec3 extra_normal{};
 };
 
 /// The loop's parameters (Avian 0.6's defaults, in length units of 1 m; scaled(unit) for
@@ -371,6 +376,11 @@ struct MoveAndSlideRun {
     else
       ++r.hits_dropped;
   }
+  void add_planes(MoveHit<Id> const& h) {
+    normals.push_back(h.normal);
+    if (h.extra_normal.length_squared() > 0.0f && bool(h.extra_normal.is_finite()))
+      normals.push_back(h.extra_normal);
+  }
   /// A callback's change is kept when finite (a NaN position or velocity is not taken).
   void take(MoveHit<Id> const& h) {
     if (bool(h.position.is_finite())) pos = h.position;
@@ -462,7 +472,7 @@ struct MoveAndSlideRun {
     take(hit);
     if (answer == HitResponse::abort) r.aborted = true;
     if (answer == HitResponse::accept) {
-      normals.push_back(hit.normal);
+      add_planes(hit);
       keep(hit);
     }
     if (r.aborted) {
@@ -486,7 +496,7 @@ struct MoveAndSlideRun {
                            HitResponse const a = on_hit(h);
                            take(h);
                            if (a == HitResponse::accept && h.touching) {
-                             normals.push_back(h.normal);
+                             add_planes(h);
                              keep(h);
                            }
                            if (a == HitResponse::abort) r.aborted = true;

@@ -332,6 +332,14 @@ public:
   /// Teleports a body (resets nothing else). non_finite / bad_body leave it unchanged.
   BodyError set_pose(BodyId id, Iso3 const& pose);
   BodyError set_velocity(BodyId id, Vec3 const& linear, Vec3 const& angular);
+  /// The velocity (m/s) of the body's material point at world `point`: v + w x (point - centre
+  /// of mass); zero for a static body. std::out_of_range for a stale id.
+  Vec3 velocity_at(BodyId id, Vec3 const& point) const;
+  /// Adds an impulse (N s, world axes) at a world point to a dynamic body: v += J / m,
+  /// w += I^-1 ((point - centre of mass) x J), effective in the next step. Static, kinematic
+  /// and frozen bodies take no impulses (none is returned: nothing to do). non_finite /
+  /// bad_body leave the world unchanged.
+  BodyError apply_impulse(BodyId id, Vec3 const& impulse, Vec3 const& point);
 
   /// Changes the body's type, keeping its pose, shape, material, layers and (unless it becomes
   /// static) its velocities. Becoming dynamic computes the mass from the shape and the
