@@ -6,8 +6,10 @@
 // (world bodies, 1,200 in all). 512 capsules of different sizes (radius 0.3-0.4 m, half
 // height 0.4-0.6 m) in 8 crowds of 64 within 4 m of each other, each asking for 5 m/s in its
 // own direction plus -2 m/s of gravity, for one 1/60 s frame from the same start every
-// iteration: the work of a crowd's frame.
+// iteration: the work of a crowd's frame. character_controller/level/plume/loop: the same
+// crowd as CharacterControllers walking the level (below).
 #include <plume/solver/character/move_and_slide.hpp>
+#include <plume/solver/world/character_controller.hpp>
 #include <plume/solver/world/move_query.hpp>
 #include <plume/solver/world/world.hpp>
 
@@ -26,26 +28,30 @@ using namespace plume;
 
 constexpr float dt = 1.0f / 60.0f;
 
+void build_level(World& w) {
+  w.create_body({.type = BodyType::static_body,
+                 .pose = Iso3::from_translation({0, -1.0f, 0}),
+                 .shape = HalfSpace{Vec3::Y}});
+  for (int i = -10; i < 10; ++i)
+    for (int k = -10; k < 10; ++k) {
+      Vec3 const at{3.0f * float(i), 0.5f, 3.0f * float(k)};
+      w.create_body({.type = BodyType::static_body,
+                     .pose = Iso3::from_translation(at),
+                     .shape = Cuboid{Vec3{0.3f, 1.5f, 0.3f}}});
+      w.create_body({.type = BodyType::static_body,
+                     .pose = Iso3{Quat::from_rotation_z(0.25f), at + Vec3{1.5f, -1.2f, 0}},
+                     .shape = Cuboid{Vec3{0.8f, 0.2f, 0.5f}}});
+      w.create_body({.type = BodyType::static_body,
+                     .pose = Iso3::from_translation(at + Vec3{0, -1.4f, 1.5f}),
+                     .shape = Cuboid{Vec3{0.5f, 0.15f, 0.5f}}});
+    }
+  w.step(1.0f / 60.0f); // the step builds the static tree's wide copy the queries walk
+}
+
 World const& level() {
   static World const level_world = [] {
     World w;
-    w.create_body({.type = BodyType::static_body,
-                   .pose = Iso3::from_translation({0, -1.0f, 0}),
-                   .shape = HalfSpace{Vec3::Y}});
-    for (int i = -10; i < 10; ++i)
-      for (int k = -10; k < 10; ++k) {
-        Vec3 const at{3.0f * float(i), 0.5f, 3.0f * float(k)};
-        w.create_body({.type = BodyType::static_body,
-                       .pose = Iso3::from_translation(at),
-                       .shape = Cuboid{Vec3{0.3f, 1.5f, 0.3f}}});
-        w.create_body({.type = BodyType::static_body,
-                       .pose = Iso3{Quat::from_rotation_z(0.25f), at + Vec3{1.5f, -1.2f, 0}},
-                       .shape = Cuboid{Vec3{0.8f, 0.2f, 0.5f}}});
-        w.create_body({.type = BodyType::static_body,
-                       .pose = Iso3::from_translation(at + Vec3{0, -1.4f, 1.5f}),
-                       .shape = Cuboid{Vec3{0.5f, 0.15f, 0.5f}}});
-      }
-    w.step(1.0f / 60.0f); // the step builds the static tree's wide copy the queries walk
+    build_level(w);
     return w;
   }();
   return level_world;
@@ -109,10 +115,42 @@ void register_loop() {
   })->Unit(benchmark::kMicrosecond);
 }
 
+// CharacterController::update for the crowd's 512 characters in the same level, each with a
+// proxy body (so they meet each other), walking 5 m/s on a circle of 5 m (turning 1 rad/s)
+// from its start: pillars, ramps, steps, stairs, stick to floor and the other characters.
+// One iteration is one frame of all of them; items = character updates.
+void register_controller() {
+  benchmark::RegisterBenchmark("character_controller/level/plume/loop", [](benchmark::State& st) {
+    World w;
+    build_level(w);
+    Crowd const& c = crowd();
+    std::vector<CharacterController> walkers;
+    walkers.reserve(c.shapes.size());
+    for (std::size_t k = 0; k < c.shapes.size(); ++k)
+      walkers.emplace_back(w, CharacterConfig{.shape = c.shapes[k], .position = c.start[k]});
+    int frame = 0;
+    auto const one_frame = [&] {
+      for (std::size_t k = 0; k < walkers.size(); ++k) {
+        CharacterController& h = walkers[k];
+        float const a = std::atan2(c.velocity[k].z, c.velocity[k].x) + float(frame) * dt;
+        Vec3 const walk{5.0f * std::cos(a), 0.0f, 5.0f * std::sin(a)};
+        Vec3 const v = h.velocity();
+        h.set_velocity(h.on_ground() ? walk : v + w.config().gravity * dt);
+        h.update(w, dt);
+      }
+      ++frame;
+    };
+    for (int f = 0; f < 30; ++f) // settle on the ground first
+      one_frame();
+    plume::bench::run_items(st, std::int64_t(walkers.size()), one_frame);
+  })->Unit(benchmark::kMicrosecond);
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
   plume::bench::for_each_f32_width([]<class T>() { register_width<T>(); });
   register_loop();
+  register_controller();
   return plume::bench::run_benchmarks(argc, argv);
 }

@@ -72,9 +72,22 @@ Aabb3 clamp_box(Aabb3 const& b) { // infinite query boxes become the largest fin
 
 void World::sync_trees() const {
   if (trees_synced_) return;
-  for (std::uint32_t i : moving_bodies_)
+  auto const refit = [&](std::uint32_t i) {
     bvh_.set_box(i, grown_aabb(i),
                  bodies_[i].type == BodyType::dynamic ? ProxyKind::dynamic : ProxyKind::kinematic);
+  };
+  if (all_moving_stale_) {
+    for (std::uint32_t i : moving_bodies_)
+      refit(i);
+  } else { // only what was edited, in index order as the full pass would meet them
+    std::sort(stale_moving_.begin(), stale_moving_.end());
+    stale_moving_.erase(std::unique(stale_moving_.begin(), stale_moving_.end()),
+                        stale_moving_.end());
+    for (std::uint32_t i : stale_moving_)
+      if (bodies_[i].alive && bodies_[i].type != BodyType::static_body) refit(i);
+  }
+  stale_moving_.clear();
+  all_moving_stale_ = false;
   for (std::uint32_t i : stale_statics_) // every new or teleported static body
     if (bodies_[i].alive) bvh_.set_box(i, grown_aabb(i), ProxyKind::static_body);
   stale_statics_.clear();

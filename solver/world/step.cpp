@@ -330,6 +330,7 @@ void World::step_with(float dt) {
   store_impulses(blocks);
   finalize_bodies();
   trees_synced_ = false; // bodies moved: the trees follow now (BVH), or at the first query
+  all_moving_stale_ = true;
   if (config_.broad_phase == BroadPhaseKind::bvh) sync_trees();
   profile_.finalize = seconds_since(t_finalize);
   profile_.total = seconds_since(t_start);

@@ -106,11 +106,16 @@ BodyError World::set_type(BodyId id, BodyType type) {
     states_[i] = BodyState{}; // stopped
     moving_bodies_.erase(std::remove(moving_bodies_.begin(), moving_bodies_.end(), i),
                          moving_bodies_.end());
+    stale_moving_.erase(std::remove(stale_moving_.begin(), stale_moving_.end(), i),
+                        stale_moving_.end());
     stale_statics_.push_back(i); // the next sync moves it to the static tree
-  } else if (was == BodyType::static_body) {
-    stale_statics_.erase(std::remove(stale_statics_.begin(), stale_statics_.end(), i),
-                         stale_statics_.end());
-    moving_bodies_.insert(std::lower_bound(moving_bodies_.begin(), moving_bodies_.end(), i), i);
+  } else {
+    if (was == BodyType::static_body) {
+      stale_statics_.erase(std::remove(stale_statics_.begin(), stale_statics_.end(), i),
+                           stale_statics_.end());
+      moving_bodies_.insert(std::lower_bound(moving_bodies_.begin(), moving_bodies_.end(), i), i);
+    }
+    stale_moving_.push_back(i); // the next sync files it under its new kind
   }
   trees_synced_ = false;
   return BodyError::none;
@@ -175,11 +180,13 @@ CreateBodyResult World::create_body(BodyDef const& def) {
     states_.push_back(BodyState{}); // the identity record moves up one
     cache_.reserve_bodies(bodies_.size());
   }
-  if (bodies_[id.index].type == BodyType::static_body)
+  if (bodies_[id.index].type == BodyType::static_body) {
     stale_statics_.push_back(id.index);
-  else // kept in index order: the step visits moving bodies in it
+  } else { // kept in index order: the step visits moving bodies in it
     moving_bodies_.insert(std::lower_bound(moving_bodies_.begin(), moving_bodies_.end(), id.index),
                           id.index);
+    stale_moving_.push_back(id.index);
+  }
   trees_synced_ = false;
   return {id, BodyError::none};
 }
@@ -220,6 +227,7 @@ BodyError World::destroy_body(BodyId id) {
   };
   drop(moving_bodies_);
   drop(stale_statics_);
+  drop(stale_moving_);
   frozen_.erase(std::remove(frozen_.begin(), frozen_.end(), id), frozen_.end());
   Body& b = bodies_[i];
   Body dead;
@@ -243,7 +251,10 @@ BodyError World::set_pose(BodyId id, Iso3 const& pose) {
   Body& b = bodies_[id.index];
   b.pose = {pose.rotation * (1.0f / qlen), pose.translation};
   b.center = b.pose.transform_point(b.local_center);
-  if (b.type == BodyType::static_body) stale_statics_.push_back(id.index);
+  if (b.type == BodyType::static_body)
+    stale_statics_.push_back(id.index);
+  else
+    stale_moving_.push_back(id.index);
   trees_synced_ = false;
   return BodyError::none;
 }

@@ -532,9 +532,13 @@ private:
   std::vector<Aabb3> boxes_;                 ///< sort and sweep: this step's grown AABBs, by body
   std::vector<std::uint32_t> moving_bodies_; ///< every kinematic and dynamic body, by index
   mutable std::vector<std::uint32_t>
-      stale_statics_;                ///< statics created or moved since the last sync
-  std::vector<std::uint64_t> pairs_; ///< this step's overlapping pairs (body_pair_key)
-  std::vector<PairManifold> found_;  ///< this step's manifolds, by pair
+      stale_statics_; ///< statics created or moved since the last sync
+  /// Kinematic and dynamic bodies created, teleported or retyped since the last sync (a
+  /// query after one set_pose refits one box, not every moving body's).
+  mutable std::vector<std::uint32_t> stale_moving_;
+  mutable bool all_moving_stale_ = false; ///< a step moved them all
+  std::vector<std::uint64_t> pairs_;      ///< this step's overlapping pairs (body_pair_key)
+  std::vector<PairManifold> found_;       ///< this step's manifolds, by pair
   ContactCache cache_;
   std::vector<BodyId> frozen_;
   StepEvents events_, pending_; ///< pending_: destroy_body's ends, for the next step
