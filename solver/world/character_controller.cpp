@@ -87,6 +87,8 @@ CharacterController::CharacterController(World& world, CharacterConfig const& cf
     if (!(x >= 0.0f) || !std::isfinite(x))
       throw std::invalid_argument("CharacterController: lengths, angles, mass and strength "
                                   "must be finite and non-negative");
+  if (!(cfg.max_slope < 1.5707963f))
+    throw std::invalid_argument("CharacterController: max_slope must be below 90 degrees");
   cos_slope_ = std::cos(cfg_.max_slope);
   position_ = cfg.position;
   rotation_ = Quat::from_rotation_arc(Vec3{0.0f, 1.0f, 0.0f}, cfg_.up);
@@ -100,25 +102,6 @@ CharacterController::CharacterController(CharacterController&& o) noexcept
       ground_(o.ground_), ground_pose_(o.ground_pose_), proxy_(o.proxy_),
       touched_(std::move(o.touched_)), pushes_(std::move(o.pushes_)), last_(o.last_) {
   o.proxy_ = BodyId{};
-}
-
-CharacterController& CharacterController::operator=(CharacterController&& o) noexcept {
-  if (this != &o) {
-    cfg_ = std::move(o.cfg_);
-    cos_slope_ = o.cos_slope_;
-    position_ = o.position_;
-    velocity_ = o.velocity_;
-    rotation_ = o.rotation_;
-    platform_rotation_ = o.platform_rotation_;
-    ground_ = o.ground_;
-    ground_pose_ = o.ground_pose_;
-    proxy_ = o.proxy_;
-    touched_ = std::move(o.touched_);
-    pushes_ = std::move(o.pushes_);
-    last_ = o.last_;
-    o.proxy_ = BodyId{};
-  }
-  return *this;
 }
 
 bool CharacterController::make_proxy(World& world) {
@@ -140,6 +123,7 @@ QueryFilter CharacterController::filter(std::span<BodyId const> exclude) const {
   QueryFilter f;
   f.mask = cfg_.collides_with;
   f.exclude = exclude;
+  f.sensors = cfg_.sensors_block; // sensors are triggers, not floors or walls
   return f;
 }
 
@@ -251,7 +235,7 @@ CharacterGround CharacterController::find_ground(World const& world, Vec3 const&
                    }
                    if (!has_any) any = c;
                    has_any = true;
-                   if (u >= cos_slope_) {
+                   if (u >= cos_slope_ && u > ground_facing) {
                      // The nearest walkable contact holds it (ties: the flattest).
                      if (!has_walk || c.separation < walk.separation ||
                          (c.separation == walk.separation && u > walk_up))
@@ -312,8 +296,12 @@ void CharacterController::carry(World& world, WorldMoveQuery const& scene) {
   float const tl = twist.length();
   twist = tl > 0.0f ? twist * (1.0f / tl) : Quat::IDENTITY;
   if (!bool(motion.is_finite()) || !bool(twist.is_finite())) return;
-  platform_rotation_ = twist;
-  rotation_ = (twist * rotation_).normalize();
+  bool const turned = twist.x != 0.0f || twist.y != 0.0f || twist.z != 0.0f;
+  if (turned) {
+    platform_rotation_ = twist;
+    rotation_ = (twist * rotation_).normalize();
+    last_.carried = true;
+  }
   if (!(motion.length_squared() > 0.0f)) return;
   BodyId const exclude[2] = {proxy_, ground_.body};
   QueryFilter const f = filter(proxy_.valid() ? std::span<BodyId const>(exclude)
@@ -394,12 +382,14 @@ bool CharacterController::stick(World const& world, WorldMoveQuery const& scene)
   return true;
 }
 
-void CharacterController::push(World& world, float dt) {
+void CharacterController::push(World& world, float dt, Vec3 const& frame_velocity) {
   // The strongest push per dynamic body walked into (ground contacts excluded: the weight
-  // below pushes those).
+  // below pushes those). Hits carry the velocity relative to the ground: the approach is
+  // measured in the world (frame_velocity: the ground's, when the move was on it).
   for (MoveHit<BodyId> const& h : touched_) {
     if (walkable(h.normal) || !world.is_alive(h.collider)) continue;
-    float const approach = (world.velocity_at(h.collider, h.point) - h.velocity).dot(h.normal);
+    float const approach =
+        (world.velocity_at(h.collider, h.point) - (h.velocity + frame_velocity)).dot(h.normal);
     if (!(approach > 0.0f)) continue;
     float const j = std::min(cfg_.mass * approach, cfg_.max_strength * dt);
     CharacterPush const p{h.collider, -h.normal * j, h.point};
@@ -410,7 +400,7 @@ void CharacterController::push(World& world, float dt) {
     else if (p.impulse.length_squared() > same->impulse.length_squared())
       *same = p;
   }
-  if (ground_.state == GroundState::on_ground && world.is_alive(ground_.body) &&
+  if (dt > 0.0f && ground_.state == GroundState::on_ground && world.is_alive(ground_.body) &&
       world.type(ground_.body) == BodyType::dynamic)
     pushes_.push_back({ground_.body, world.config().gravity * (cfg_.mass * dt), ground_.point});
   for (CharacterPush const& p : pushes_)
@@ -432,6 +422,8 @@ CharacterUpdate const& CharacterController::update(World& world, float dt) {
   Vec3 const start = position_;
   Vec3 const up = cfg_.up;
   bool const grounded = ground_.state == GroundState::on_ground;
+  // velocity_ is relative to the ground while on it, and in the world off it.
+  Vec3 const frame_velocity = grounded ? ground_.velocity : Vec3{};
 
   // 1. Carried by the platform.
   carry(world, scene);
@@ -477,7 +469,7 @@ CharacterUpdate const& CharacterController::update(World& world, float dt) {
   last_.move = move_and_slide(scene, cfg_.shape, pose_at(position_), v, dt, cfg_.move, f, on_hit);
   MoveAndSlideResult<BodyId> const& r = last_.move;
   position_ = r.position;
-  velocity_ = r.velocity;
+  if (bool(r.velocity.is_finite())) velocity_ = r.velocity;
   // Walking, what the move rolled up (an edge) is not kept: fed back, it would launch.
   if (grounded && !rising) {
     float const over = velocity_.dot(up) - std::max(follow.dot(up), 0.0f);
@@ -496,7 +488,7 @@ CharacterUpdate const& CharacterController::update(World& world, float dt) {
   }
 
   // 5. Stick to the floor on leaving it (or on finding it further than the skin).
-  if (grounded && !rising && !last_.stepped && cfg_.stick_to_floor > 0.0f) {
+  if (grounded && !rising && !last_.stepped && dt > 0.0f && cfg_.stick_to_floor > 0.0f) {
     CharacterGround const g = find_ground(world, position_);
     if (g.state != GroundState::on_ground ||
         g.separation > cfg_.move.skin + cfg_.move.touch_tolerance)
@@ -506,10 +498,14 @@ CharacterUpdate const& CharacterController::update(World& world, float dt) {
   // 6. The ground; the proxy; the pushes.
   ground_ = find_ground(world, position_);
   if (ground_.body.valid()) ground_pose_ = world.pose(ground_.body);
+  // Leaving the ground, the velocity takes the ground's with it (a jump off a moving
+  // platform keeps its momentum); landing, it becomes relative to the new ground.
+  Vec3 const new_frame = ground_.state == GroundState::on_ground ? ground_.velocity : Vec3{};
+  velocity_ = velocity_ + frame_velocity - new_frame;
   last_.displacement = position_ - start;
   // The proxy keeps zero velocity: the step would move a kinematic body by it.
   if (proxy_.valid() && world.is_alive(proxy_)) world.set_pose(proxy_, pose_at(position_));
-  push(world, dt);
+  push(world, dt, frame_velocity);
   return last_;
 }
 

@@ -100,6 +100,7 @@ void World::sync_trees() const {
 
 bool World::passes(std::uint32_t i, QueryFilter const& filter) const {
   if ((bodies_[i].layers.memberships & filter.mask) == 0) return false;
+  if (!filter.sensors && bodies_[i].sensor) return false;
   for (BodyId const e : filter.exclude) // a stale id excludes nothing (not the slot's new body)
     if (e.index == i && e.generation == bodies_[i].generation) return false;
   return !filter.predicate || filter.predicate(BodyId{i, bodies_[i].generation});

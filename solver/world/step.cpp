@@ -329,8 +329,9 @@ void World::step_with(float dt) {
   auto const t_finalize = clock::now();
   store_impulses(blocks);
   finalize_bodies();
-  trees_synced_ = false; // bodies moved: the trees follow now (BVH), or at the first query
-  all_moving_stale_ = true;
+  trees_synced_ = false;    // bodies moved: the trees follow now (BVH), or at the first query
+  all_moving_stale_ = true; // the list of single edits is moot until the next sync
+  stale_moving_.clear();
   if (config_.broad_phase == BroadPhaseKind::bvh) sync_trees();
   profile_.finalize = seconds_since(t_finalize);
   profile_.total = seconds_since(t_start);

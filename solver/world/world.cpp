@@ -115,7 +115,7 @@ BodyError World::set_type(BodyId id, BodyType type) {
                            stale_statics_.end());
       moving_bodies_.insert(std::lower_bound(moving_bodies_.begin(), moving_bodies_.end(), i), i);
     }
-    stale_moving_.push_back(i); // the next sync files it under its new kind
+    mark_stale_moving(i); // the next sync files it under its new kind
   }
   trees_synced_ = false;
   return BodyError::none;
@@ -185,7 +185,7 @@ CreateBodyResult World::create_body(BodyDef const& def) {
   } else { // kept in index order: the step visits moving bodies in it
     moving_bodies_.insert(std::lower_bound(moving_bodies_.begin(), moving_bodies_.end(), id.index),
                           id.index);
-    stale_moving_.push_back(id.index);
+    mark_stale_moving(id.index);
   }
   trees_synced_ = false;
   return {id, BodyError::none};
@@ -254,7 +254,7 @@ BodyError World::set_pose(BodyId id, Iso3 const& pose) {
   if (b.type == BodyType::static_body)
     stale_statics_.push_back(id.index);
   else
-    stale_moving_.push_back(id.index);
+    mark_stale_moving(id.index);
   trees_synced_ = false;
   return BodyError::none;
 }

@@ -16,6 +16,7 @@
 #include <numbers>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 using namespace plume;
@@ -418,6 +419,47 @@ TEST_CASE("character: a moving and a rotating platform carry it", "[character][c
   }
 }
 
+TEST_CASE("character: jumping off a moving platform keeps its velocity; landing on one sheds it",
+          "[character][controller]") {
+  World w;
+  BodyId const p = add_box(w, {0, -0.25f, 0}, {20, 0.25f, 2}, Quat::IDENTITY, BodyType::kinematic);
+  w.set_velocity(p, {2, 0, 0}, {});
+  CharacterController c(w, {.position = {0, stand, 0}});
+  drive(w, c, {}, 3);
+  REQUIRE(c.on_ground());
+  CHECK(c.velocity().x == 0.0f); // relative to the platform
+  CHECK(c.world_velocity().x == Approx(2.0f));
+  w.step(dt);
+  c.set_velocity({0, 4, 0}); // a jump, relative to the platform
+  c.update(w, dt);
+  REQUIRE(c.ground_state() == GroundState::in_air);
+  CHECK(c.velocity().x == Approx(2.0f)); // in the world now
+  float const x0 = c.position().x, p0 = w.pose(p).translation.x;
+  auto const air = drive(w, c, {}, 60);
+  // Back on the platform: it moved along with it, and the velocity is relative again.
+  REQUIRE(c.on_ground());
+  CHECK(count(air, GroundState::in_air) > 20);
+  CHECK((c.position().x - x0) - (w.pose(p).translation.x - p0) == Approx(0.0f).margin(0.04));
+  CHECK(std::abs(c.velocity().x) < 1e-3f);
+}
+
+TEST_CASE("character: sensors are walked through unless sensors_block", "[character][controller]") {
+  for (bool const block : {false, true}) {
+    World w;
+    add_floor(w);
+    w.create_body({.type = BodyType::static_body,
+                   .pose = Iso3::from_translation({2, 1, 0}),
+                   .shape = Cuboid{{0.5f, 1, 2}},
+                   .sensor = true});
+    CharacterController c(w, {.position = {0, stand, 0}, .sensors_block = block});
+    drive(w, c, {2, 0, 0}, 120);
+    if (block)
+      CHECK(c.position().x < 1.5f - 0.3f + 0.02f);
+    else
+      CHECK(c.position().x > 3.5f);
+  }
+}
+
 TEST_CASE("character: pushing a 50 kg crate moves it at the speed its strength allows",
           "[character][controller][push]") {
   World w;
@@ -528,6 +570,7 @@ TEST_CASE("character: crouching under a low ceiling, and standing refused until 
   REQUIRE(c.set_shape(w, Capsule{0.1f, 0.3f}) == CharacterError::none);
   CHECK(c.position().y - 0.4f == Approx(feet).margin(1e-5));
   CHECK(std::get<Capsule>(w.shape(c.proxy())).half_height == 0.1f);
+  CHECK(w.alive_count() == 3); // floor, ceiling, one proxy: the old one is gone
   drive(w, c, {2, 0, 0}, 90);
   CHECK(c.position().x > 3.5f);
   CHECK(c.on_ground());
@@ -578,6 +621,11 @@ TEST_CASE("character: bad input", "[character][controller][bad-input]") {
   CHECK_THROWS_AS(CharacterController(w, {.shape = HalfSpace{Vec3::Y}}), std::invalid_argument);
   CHECK_THROWS_AS(CharacterController(w, {.shape = Sphere{0.0f}}), std::invalid_argument);
   CHECK_THROWS_AS(CharacterController(w, {.max_slope = -1.0f}), std::invalid_argument);
+  CHECK_THROWS_AS(CharacterController(w, {.max_slope = 1.5707964f}), std::invalid_argument);
+  static_assert(std::is_move_constructible_v<CharacterController>);
+  static_assert(!std::is_move_assignable_v<CharacterController>); // would leak a proxy
+  static_assert(!std::is_copy_constructible_v<CharacterController>);
+  CHECK(CharacterConfig{}.scaled(100.0f).max_strength == 100.0f * 100.0f); // N: kg m/s^2
   CHECK_THROWS_AS(CharacterController(w, {.position = {NAN, 0, 0}}), std::invalid_argument);
   std::size_t const bodies = w.alive_count();
 

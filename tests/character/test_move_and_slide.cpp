@@ -123,6 +123,41 @@ TEST_CASE("move and slide: 45 degrees into a wall slides at the tangential speed
   CHECK(r.velocity.back().z == Approx(tangential).epsilon(1e-3));
 }
 
+TEST_CASE("move and slide: a second plane from the callback (extra_normal) clips the velocity "
+          "with the hit's",
+          "[character][move]") {
+  World w;
+  add_box(w, {3, 0, 0}, {0.5f, 5, 50});
+  WorldMoveQuery const scene(w);
+  Vec3 const start{2.0f - skin, 0, 0};
+  Vec3 const v = dir(45) * 5.0f; // into the wall and along +z
+  auto const plain = move_and_slide(scene, capsule, Iso3::from_translation(start), v, dt);
+  // A plane across the slide (normal -z) added at the wall: the slide stops too.
+  int added = 0;
+  auto const fenced = move_and_slide(scene, capsule, Iso3::from_translation(start), v, dt, {}, {},
+                                     [&](MoveHit<BodyId>& h) {
+                                       if (h.kind == MoveHitKind::sweep) {
+                                         h.extra_normal = Vec3{0, 0, -1};
+                                         ++added;
+                                       }
+                                       return HitResponse::accept;
+                                     });
+  REQUIRE(added >= 1);
+  CHECK(plain.velocity.z == Approx(v.z).epsilon(1e-3));
+  CHECK(std::abs(fenced.velocity.z) < 1e-3f);
+  CHECK(std::abs(fenced.velocity.x) < 1e-3f);
+  // A zero or NaN extra normal adds no plane.
+  for (Vec3 const extra : {Vec3{}, Vec3{NAN, 0, 0}}) {
+    auto const r = move_and_slide(scene, capsule, Iso3::from_translation(start), v, dt, {}, {},
+                                  [&](MoveHit<BodyId>& h) {
+                                    h.extra_normal = extra;
+                                    return HitResponse::accept;
+                                  });
+    CHECK(r.velocity.z == plain.velocity.z);
+    CHECK(r.position.z == plain.position.z);
+  }
+}
+
 TEST_CASE("move and slide: a 90 degree inside corner stops without jitter", "[character][move]") {
   World w;
   add_box(w, {3, 0, 0}, {0.5f, 5, 5}); // x = 2.5

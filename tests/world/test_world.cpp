@@ -590,3 +590,61 @@ TEST_CASE("world: apply_impulse changes a dynamic body's velocities by J / m and
   plain.apply_impulse(ball, {1, 2, 3}, plain.center_of_mass(ball));
   CHECK(plain.angular_velocity(ball).length() == 0.0f);
 }
+
+TEST_CASE("world: a query after set_pose or set_type between steps sees the body where it is "
+          "now, with either broad phase",
+          "[world][queries]") {
+  for (BroadPhaseKind const kind : {BroadPhaseKind::bvh, BroadPhaseKind::sort_and_sweep}) {
+    WorldConfig cfg;
+    cfg.broad_phase = kind;
+    World w(cfg);
+    BodyId const mover =
+        w.create_body({.type = BodyType::kinematic, .shape = Cuboid{Vec3::splat(0.5f)}}).id;
+    BodyId const ball =
+        w.create_body({.pose = Iso3::from_translation({0, 5, 0}), .shape = Sphere{0.5f}}).id;
+    w.step(dt);
+    Ray3 const down{{10, 10, 0}, {0, -1, 0}};
+    CHECK(!w.ray_cast(down, 100.0f)); // nothing at x = 10 yet
+    for (int k = 0; k < 3; ++k) {     // teleported again and again between queries
+      REQUIRE(w.set_pose(mover, Iso3::from_translation({10, float(k), 0})) == BodyError::none);
+      auto const hit = w.ray_cast(down, 100.0f);
+      REQUIRE(hit);
+      CHECK(hit->body == mover);
+      CHECK(hit->toi == Approx(10.0f - float(k) - 0.5f));
+    }
+    // Retyped and moved: still found; the dynamic ball moved away by set_pose too.
+    REQUIRE(w.set_type(mover, BodyType::dynamic) == BodyError::none);
+    REQUIRE(w.set_pose(ball, Iso3::from_translation({-10, 0, 0})) == BodyError::none);
+    CHECK(w.ray_cast(down, 100.0f)->body == mover);
+    auto const at_ball = w.ray_cast(Ray3{{-10, 10, 0}, {0, -1, 0}}, 100.0f);
+    REQUIRE(at_ball);
+    CHECK(at_ball->body == ball);
+    CHECK(!w.ray_cast(Ray3{{0, 10, 0}, {0, -1, 0}}, 100.0f)); // it left the origin
+  }
+}
+
+TEST_CASE("world: QueryFilter::sensors = false hides sensor bodies from every query",
+          "[world][queries]") {
+  World w;
+  BodyId const trigger = w.create_body({.type = BodyType::static_body,
+                                        .pose = Iso3::from_translation({0, 0, 5}),
+                                        .shape = Cuboid{Vec3::splat(1)},
+                                        .sensor = true})
+                             .id;
+  BodyId const wall = w.create_body({.type = BodyType::static_body,
+                                     .pose = Iso3::from_translation({0, 0, 10}),
+                                     .shape = Cuboid{Vec3::splat(1)}})
+                          .id;
+  Ray3 const ray{{0, 0, 0}, {0, 0, 1}};
+  QueryFilter solid;
+  solid.sensors = false;
+  CHECK(w.ray_cast(ray, 100.0f)->body == trigger);
+  CHECK(w.ray_cast(ray, 100.0f, solid)->body == wall);
+  auto const cast = w.shape_cast(Sphere{0.5f}, Iso3{}, Vec3{0, 0, 20}, {}, solid);
+  REQUIRE(cast);
+  CHECK(cast->body == wall);
+  int seen = 0;
+  w.overlap_aabb(
+      Aabb3{{-2, -2, 0}, {2, 2, 12}}, [&](BodyId) { return ++seen, true; }, solid);
+  CHECK(seen == 1);
+}

@@ -41,7 +41,8 @@
 //     adds a vertical wall facing the character;
 //  4. stairs: on the ground, blocked by a wall or too-steep slope facing the motion, try
 //     up by step_height, forward by the rest of the motion (at least min_step_forward), and
-//     down onto walkable ground; kept when it went higher and further;
+//     down onto walkable ground no higher than step_height above the feet; kept when it went
+//     higher and at least half of min_step_forward forward;
 //  5. stick to floor: on the ground before and not now, not rising: a cast down by
 //     stick_to_floor, kept when it lands on walkable ground;
 //  6. the ground state from the contacts within skin + ground_tolerance (the nearest
@@ -51,10 +52,12 @@
 // Lengths in metres (scaled() for other units), velocities m/s, mass kg, force N, angles rad.
 //
 // Bad input: update() with a non-finite or negative dt, or a velocity or position that is not
-// finite, does nothing and says so (CharacterUpdate::invalid_input); dt = 0 only
-// depenetrates. set_shape() with a shape that is not convex (a half-space, mesh or height
-// field) or a bad size is refused (CharacterError). The constructor throws
-// std::invalid_argument for a bad config (non-convex shape, zero up, negative lengths).
+// finite, does nothing and says so (CharacterUpdate::invalid_input); dt = 0 makes no move of
+// its own (a platform that moved still carries it; no stick, no push). set_shape() with a
+// shape that is not convex (a half-space, mesh or height field), a bad size, or a negative
+// max_penetration is refused (bad_shape). The constructor throws std::invalid_argument for a
+// non-convex or degenerate shape, a zero or non-finite up, a non-finite position, a negative
+// or non-finite length, angle, mass or strength, or max_slope of 90 degrees or more.
 #pragma once
 
 #include <plume/solver/character/move_and_slide.hpp>
@@ -111,7 +114,10 @@ struct CharacterConfig {
   /// the step ignores, filters = 0): other characters and the game's queries see it.
   bool proxy = true;
   std::uint32_t proxy_layers = 1u; ///< the proxy's memberships
-  MoveAndSlideConfig move{};       ///< the loop's (skin 0.01, 4 sweeps, ...)
+  /// Whether sensor bodies block the character (false: it walks through trigger volumes; the
+  /// proxy never raises sensor events, its filters being 0).
+  bool sensors_block = false;
+  MoveAndSlideConfig move{}; ///< the loop's (skin 0.01, 4 sweeps, ...)
 
   /// This configuration with every length multiplied by length_unit (the shape excepted:
   /// give it in the new unit).
@@ -123,6 +129,7 @@ struct CharacterConfig {
     c.min_step_forward *= length_unit;
     c.step_forward_test *= length_unit;
     c.stick_to_floor *= length_unit;
+    c.max_strength *= length_unit; // N = kg m / s^2
     c.move = c.move.scaled(length_unit);
     return c;
   }
@@ -163,16 +170,20 @@ public:
   CharacterController(World& world, CharacterConfig const& cfg);
   CharacterController(CharacterController const&) = delete;
   CharacterController& operator=(CharacterController const&) = delete;
-  /// The moved-from controller has no proxy.
+  /// The moved-from controller has no proxy. No assignment: it would have to remove the
+  /// assigned-to controller's proxy from a world it keeps no pointer to (destroy() it first,
+  /// then construct anew, or keep controllers in a container that only moves-constructs).
   CharacterController(CharacterController&& o) noexcept;
-  CharacterController& operator=(CharacterController&& o) noexcept;
+  CharacterController& operator=(CharacterController&&) = delete;
 
   /// Moves the character by its velocity over dt seconds (the file comment says how).
   CharacterUpdate const& update(World& world, float dt);
 
   Vec3 position() const noexcept { return position_; }
-  /// The velocity relative to the ground (what the last update left: the requested one,
-  /// projected on what it hit).
+  /// The velocity (what the last update left: the requested one, projected on what it hit),
+  /// relative to the ground while on_ground(), in the world otherwise: leaving the ground
+  /// adds the ground's velocity (a jump off a moving platform keeps its momentum), landing
+  /// subtracts the new ground's.
   Vec3 velocity() const noexcept { return velocity_; }
   /// The velocity in the world: velocity() plus the ground's when on it.
   Vec3 world_velocity() const noexcept;
@@ -186,8 +197,9 @@ public:
   bool on_ground() const noexcept { return ground_.state == GroundState::on_ground; }
   /// Whether a unit normal is walkable ground: normal . up >= cos(max_slope).
   bool walkable(Vec3 const& normal) const noexcept { return normal.dot(cfg_.up) >= cos_slope_; }
-  /// The rotation the platform under it turned the character by in the last update (identity
-  /// when not carried): a game turns the character's facing by it.
+  /// The rotation about up the platform under it turned the character by in the last update
+  /// (identity when it did not turn; CharacterUpdate::carried is set when it did or moved):
+  /// a game turns the character's facing by it.
   Quat platform_rotation() const noexcept { return platform_rotation_; }
   std::span<CharacterPush const> pushes() const noexcept { return pushes_; }
   CharacterUpdate const& last_update() const noexcept { return last_; }
@@ -214,8 +226,9 @@ public:
 
 private:
   QueryFilter filter(std::span<BodyId const> exclude) const;
-  QueryFilter own_filter() const; ///< the character's layers, its proxy excluded
-  bool make_proxy(World& world);  ///< a kinematic body of the shape at the position
+  /// The character's layers, its proxy excluded, sensors skipped unless sensors_block.
+  QueryFilter own_filter() const;
+  bool make_proxy(World& world); ///< a kinematic body of the shape at the position
   Iso3 pose_at(Vec3 const& p) const { return Iso3{rotation_, p}; }
   CharacterGround find_ground(World const& world, Vec3 const& p) const;
   /// The walkable face under an edge contact at `point` of `body` (character at p), if any.
@@ -224,7 +237,7 @@ private:
   void carry(World& world, WorldMoveQuery const& scene);
   bool walk_stairs(WorldMoveQuery const& scene, Vec3 const& forward);
   bool stick(World const& world, WorldMoveQuery const& scene);
-  void push(World& world, float dt);
+  void push(World& world, float dt, Vec3 const& frame_velocity);
 
   CharacterConfig cfg_;
   float cos_slope_ = 0.0f;

@@ -186,12 +186,13 @@ struct BodyId {
   friend bool operator==(BodyId, BodyId) = default;
 };
 
-/// Which bodies a world query sees: those in a layer of `mask`, not in `exclude`, and for
-/// which `predicate` (when set) returns true.
+/// Which bodies a world query sees: those in a layer of `mask`, not in `exclude`, sensors
+/// only with `sensors`, and for which `predicate` (when set) returns true.
 struct QueryFilter {
   std::uint32_t mask = 0xffffffffu;
   std::span<BodyId const> exclude{};
   std::function<bool(BodyId)> predicate{};
+  bool sensors = true; ///< false: sensor bodies are not seen (a character walks through them)
 };
 
 /// A ray's hit on a body: toi in units of the ray's direction, the world point and the
@@ -537,8 +538,11 @@ private:
   /// query after one set_pose refits one box, not every moving body's).
   mutable std::vector<std::uint32_t> stale_moving_;
   mutable bool all_moving_stale_ = false; ///< a step moved them all
-  std::vector<std::uint64_t> pairs_;      ///< this step's overlapping pairs (body_pair_key)
-  std::vector<PairManifold> found_;       ///< this step's manifolds, by pair
+  void mark_stale_moving(std::uint32_t i) {
+    if (!all_moving_stale_) stale_moving_.push_back(i);
+  }
+  std::vector<std::uint64_t> pairs_; ///< this step's overlapping pairs (body_pair_key)
+  std::vector<PairManifold> found_;  ///< this step's manifolds, by pair
   ContactCache cache_;
   std::vector<BodyId> frozen_;
   StepEvents events_, pending_; ///< pending_: destroy_body's ends, for the next step
