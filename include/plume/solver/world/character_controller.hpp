@@ -53,7 +53,7 @@
 //
 // Bad input: update() with a non-finite or negative dt, or a velocity or position that is not
 // finite, does nothing and says so (CharacterUpdate::invalid_input); dt = 0 makes no move of
-// its own (a platform that moved still carries it; no stick, no push). set_shape() with a
+// its own (a platform that moved still carries it; no stick; pushes are zero). set_shape() with a
 // shape that is not convex (a half-space, mesh or height field), a bad size, or a negative
 // max_penetration is refused (bad_shape). The constructor throws std::invalid_argument for a
 // non-convex or degenerate shape, a zero or non-finite up, a non-finite position, a negative
