@@ -505,6 +505,38 @@ TEST_CASE("character: pushing a 50 kg crate moves it at the speed its strength a
   CHECK(d.position().x < 1.5f - 0.5f - 0.3f + 0.02f);
 }
 
+TEST_CASE("character: on a moving platform, a crate ahead is pushed by the walk relative to it",
+          "[character][controller][push]") {
+  // Platform, crate and character all move at 2 m/s; the character walks 1 m/s faster, so it
+  // closes on the crate at 1 m/s and pushes it, though the crate outruns its walking speed.
+  World w;
+  BodyId const p = w.create_body({.type = BodyType::kinematic,
+                                  .pose = Iso3::from_translation({0, -0.25f, 0}),
+                                  .linear_velocity = {2, 0, 0},
+                                  .shape = Cuboid{{40, 0.25f, 3}},
+                                  .friction = 0.1f})
+                       .id;
+  BodyId const crate = w.create_body({.pose = Iso3::from_translation({1.5f, 0.5f, 0}),
+                                      .linear_velocity = {2, 0, 0},
+                                      .shape = Cuboid{{0.5f, 0.5f, 0.5f}},
+                                      .density = 50.0f,
+                                      .friction = 0.1f})
+                           .id;
+  CharacterController c(w, {.position = {0, stand, 0}});
+  int pushed = 0;
+  for (int f = 0; f < 180; ++f) {
+    drive(w, c, {1, 0, 0}, 1);
+    pushed += c.pushes().empty() ? 0 : 1;
+  }
+  REQUIRE(c.on_ground());
+  CHECK(c.ground().body == p);
+  CHECK(pushed > 60);
+  // Pushed along relative to the platform, no faster than the character walks on it.
+  float const relative = w.linear_velocity(crate).x - 2.0f;
+  CHECK(relative > 0.3f);
+  CHECK(relative < 1.02f);
+}
+
 TEST_CASE("character: its weight pushes down on the dynamic body it stands on",
           "[character][controller][push]") {
   World w;
