@@ -79,6 +79,7 @@ enum class GroundState : std::uint8_t {
   not_supported,   ///< touching something (a wall, a ceiling) that does not hold it up
   in_air,          ///< touching nothing
 };
+/// A short English name of the state ("on ground", ...); "?" for a value out of range.
 std::string_view to_string(GroundState s) noexcept;
 
 /// What a controller call refused.
@@ -88,6 +89,7 @@ enum class CharacterError : std::uint8_t {
   overlap,   ///< set_shape: the new shape would overlap something deeper than allowed
   non_finite ///< a non-finite position, velocity or rotation
 };
+/// A short English description of the error; "?" for a value out of range.
 std::string_view to_string(CharacterError e) noexcept;
 
 /// A controller's parameters: Jolt CharacterVirtual's defaults, in metres.
