@@ -77,7 +77,8 @@ Aabb3 World::grown_aabb(std::uint32_t i) const {
 void World::find_pairs() {
   auto const keep = [&](std::uint32_t a, std::uint32_t b) {
     return (bodies_[a].is_dynamic() || bodies_[b].is_dynamic()) &&
-           bodies_[a].layers.interacts(bodies_[b].layers);
+           bodies_[a].layers.interacts(bodies_[b].layers) &&
+           (no_collide_pairs_.empty() || !jointed_no_collide(a, b));
   };
   if (config_.broad_phase == BroadPhaseKind::sort_and_sweep) {
     boxes_.resize(bodies_.size());
@@ -213,10 +214,67 @@ void World::pack_contacts(GConstraintBlocks<GContactConstraint, T>& blocks, floa
       });
 }
 
-/// The substeps: velocities, warm start, solve, positions, relax; then restitution.
+/// The joints packed by kind (in JointKind order), each kind by colour, each lane prepared
+/// for substep h.
 template <class T>
-void World::solve_substeps(GConstraintBlocks<GContactConstraint, T>& blocks, int substeps,
-                           float h) {
+void World::pack_joints(JointBlocks<T>& blocks, float h) const {
+  float const hertz = std::min(config_.joint_hertz, 0.25f * (1.0f / h));
+  Softness const soft = Softness::make(hertz, config_.joint_damping_ratio, h);
+  std::int32_t const identity = std::int32_t(bodies_.size());
+  std::vector<int> colors;
+  for (int k = 0; k < joint_kind_count; ++k) {
+    auto& items = blocks.items[std::size_t(k)];
+    items.clear();
+    colors.clear();
+    for (std::uint32_t i = 0; i < joints_.size(); ++i)
+      if (Joint const& j = joints_[i]; j.alive && !j.broken && int(j.params.kind) == k) {
+        items.push_back(i);
+        colors.push_back(j.color);
+      }
+    if (!items.empty()) blocks.empty = false;
+    blocks.by_kind[std::size_t(k)].pack(
+        colors,
+        [&]<class U>(GJointConstraint<U>& block, std::size_t lane, std::uint32_t local) {
+          Joint const& j = joints_[items[local]];
+          prepare_joint_lane(block, lane, joint_body(j.def.body_a.index), j.def.frame_a.anchor,
+                             j.basis_a, joint_body(j.def.body_b.index), j.def.frame_b.anchor,
+                             j.basis_b, j.params, j.impulses, soft, h);
+        },
+        [&](GJointConstraint<T>& block, std::size_t lane) {
+          clear_joint_lane(block, lane, identity);
+        });
+  }
+}
+
+/// Pass P of every joint: kind by kind, each kind's overflow and then its colours.
+template <JointPass P, class T>
+void World::run_joints(JointBlocks<T>& blocks, float inv_h) {
+  if (blocks.empty) return;
+  BodyState* const states = states_.data();
+  for (int k = 0; k < joint_kind_count; ++k)
+    blocks.by_kind[std::size_t(k)].for_each([&](auto& c) {
+      using U = typename std::decay_t<decltype(c)>::element_type;
+      joint_pass<P>(JointKind(k), c, states, U(inv_h));
+    });
+}
+
+/// Each joint keeps the impulses its lane accumulated, to warm start the next step.
+template <class T>
+void World::store_joint_impulses(JointBlocks<T> const& blocks) {
+  for (int k = 0; k < joint_kind_count; ++k) {
+    auto const& items = blocks.items[std::size_t(k)];
+    blocks.by_kind[std::size_t(k)].for_each_lane(
+        [&](auto const& c, std::size_t lane, std::uint32_t local) {
+          joints_[items[local]].impulses = joint_impulses(c, lane);
+        });
+  }
+}
+
+/// The substeps: velocities, warm start, solve, positions, relax (joints before contacts in
+/// each pass: contacts get the last word); then restitution.
+template <class T>
+void World::solve_substeps(GConstraintBlocks<GContactConstraint, T>& blocks, JointBlocks<T>& joints,
+                           int substeps, float h) {
   int const solve_iterations = std::max(1, config_.solve_iterations);
   int const relax_iterations = std::max(0, config_.relax_iterations);
   float const inv_h = 1.0f / h;
@@ -224,12 +282,17 @@ void World::solve_substeps(GConstraintBlocks<GContactConstraint, T>& blocks, int
   BodyState* const states = states_.data();
   for (int sub = 0; sub < substeps; ++sub) {
     integrate_velocities(h);
+    run_joints<JointPass::warm_start>(joints, inv_h);
     blocks.for_each([&](auto& c) { warm_start_contacts(c, states); });
-    for (int r = 0; r < solve_iterations; ++r)
+    for (int r = 0; r < solve_iterations; ++r) {
+      run_joints<JointPass::solve>(joints, inv_h);
       blocks.for_each([&](auto& c) { solve_contacts(c, states, inv_h, push, true); });
+    }
     integrate_positions(h);
-    for (int r = 0; r < relax_iterations; ++r)
+    for (int r = 0; r < relax_iterations; ++r) {
+      run_joints<JointPass::relax>(joints, inv_h);
       blocks.for_each([&](auto& c) { solve_contacts(c, states, inv_h, push, false); });
+    }
   }
   float const threshold = config_.restitution_threshold;
   blocks.for_each([&](auto& c) { apply_restitution(c, states, threshold); });
@@ -311,6 +374,7 @@ void World::step_with(float dt) {
   auto const t_narrow = clock::now();
   collide_pairs();
   update_events();
+  color_joints();
   profile_.narrow_phase = seconds_since(t_narrow);
 
   auto const t_prepare = clock::now();
@@ -320,15 +384,19 @@ void World::step_with(float dt) {
   GConstraintBlocks<GContactConstraint, T> blocks;
   pack_contacts(blocks, h);
   color_sizes_ = blocks.color_sizes();
+  JointBlocks<T> joints;
+  pack_joints(joints, h);
   profile_.prepare = seconds_since(t_prepare);
 
   auto const t_solve = clock::now();
-  solve_substeps(blocks, substeps, h);
+  solve_substeps(blocks, joints, substeps, h);
   profile_.solve = seconds_since(t_solve);
 
   auto const t_finalize = clock::now();
   store_impulses(blocks);
+  store_joint_impulses(joints);
   finalize_bodies();
+  update_joint_reactions(h);
   trees_synced_ = false;    // bodies moved: the trees follow now (BVH), or at the first query
   all_moving_stale_ = true; // the list of single edits is moot until the next sync
   stale_moving_.clear();

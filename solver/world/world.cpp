@@ -209,6 +209,8 @@ BodyId World::body_id(std::uint32_t index) const {
 BodyError World::destroy_body(BodyId id) {
   if (!is_alive(id)) return BodyError::bad_body;
   std::uint32_t const i = id.index;
+  for (JointId const j : body_joints(id)) // its joints go first (they hold its colours)
+    destroy_joint(j);
   // Its contacts and sensor overlaps end now: the next step reports them.
   auto const end_pairs = [&](std::vector<std::uint64_t>& keys, std::vector<BodyPair>& ended) {
     std::erase_if(keys, [&](std::uint64_t k) {

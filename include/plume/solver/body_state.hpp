@@ -13,6 +13,7 @@
 #pragma once
 
 #include <plume/math/quat.hpp>
+#include <plume/math/sym_mat3.hpp>
 #include <plume/math/vec3.hpp>
 #include <plume/numerics.hpp>
 #include <plume/numerics/transpose.hpp>
@@ -78,6 +79,53 @@ PLUME_INLINE void scatter_velocities(BodyState* states, std::int32_t const* writ
   T const c[8] = {b.linear_velocity.x,  b.linear_velocity.y,  b.linear_velocity.z,  pad,
                   b.angular_velocity.x, b.angular_velocity.y, b.angular_velocity.z, pad};
   store_transposed<T, 8>(c, rows);
+}
+
+/// The two bodies of W constraints as the solver kernels (contacts, joints) work on them:
+/// their states gathered, inverse masses and world inverse inertias, and the impulse
+/// application. load_constraint_bodies() / store_constraint_bodies() read and write them for
+/// any constraint block with the fields state_a, state_b, write_a, write_b, inv_mass_a,
+/// inv_mass_b, inv_inertia_a and inv_inertia_b.
+template <Real T>
+struct GConstraintBodies {
+  GBodyState<T> a, b;
+  T ma, mb;
+  GSymMat3<T> ia, ib;
+
+  /// Applies impulse p at anchors ra (on A, negated) and rb (on B).
+  PLUME_INLINE void apply(GVec3<T> const& p, GVec3<T> const& ra, GVec3<T> const& rb) noexcept {
+    a.linear_velocity = a.linear_velocity - p * ma;
+    a.angular_velocity = a.angular_velocity - ia * ra.cross(p);
+    b.linear_velocity = b.linear_velocity + p * mb;
+    b.angular_velocity = b.angular_velocity + ib * rb.cross(p);
+  }
+  /// Applies angular impulse j (-j on A, +j on B).
+  PLUME_INLINE void apply_angular(GVec3<T> const& j) noexcept {
+    a.angular_velocity = a.angular_velocity - ia * j;
+    b.angular_velocity = b.angular_velocity + ib * j;
+  }
+  PLUME_INLINE GVec3<T> relative_velocity(GVec3<T> const& ra, GVec3<T> const& rb) const noexcept {
+    return (b.linear_velocity + b.angular_velocity.cross(rb)) -
+           (a.linear_velocity + a.angular_velocity.cross(ra));
+  }
+};
+
+template <class Block, Real T = typename Block::element_type>
+PLUME_INLINE GConstraintBodies<T> load_constraint_bodies(Block const& c,
+                                                         BodyState const* states) noexcept {
+  return {gather_states<T>(states, c.state_a.data()),
+          gather_states<T>(states, c.state_b.data()),
+          c.inv_mass_a.get(),
+          c.inv_mass_b.get(),
+          c.inv_inertia_a.get(),
+          c.inv_inertia_b.get()};
+}
+
+template <class Block, Real T = typename Block::element_type>
+PLUME_INLINE void store_constraint_bodies(Block const& c, BodyState* states,
+                                          GConstraintBodies<T> const& bodies) noexcept {
+  scatter_velocities<T>(states, c.write_a.data(), bodies.a);
+  scatter_velocities<T>(states, c.write_b.data(), bodies.b);
 }
 
 } // namespace plume

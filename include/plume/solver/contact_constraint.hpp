@@ -65,6 +65,7 @@ struct GContactConstraintPoint {
 
 template <Real T>
 struct GContactConstraint {
+  using element_type = T;
   static constexpr std::size_t lanes = lanes_v<T>;
   std::array<std::int32_t, lanes> state_a{}, state_b{}; ///< BodyState indices
   std::array<std::int32_t, lanes> write_a{}, write_b{}; ///< written back when >= 0 (dynamic)
@@ -210,63 +211,17 @@ ContactImpulses contact_impulses(GContactConstraint<T> const& c, std::size_t lan
   return r;
 }
 
-namespace detail {
-
-template <Real T>
-struct ContactBodies {
-  GBodyState<T> a, b;
-  T ma, mb;
-  GSymMat3<T> ia, ib;
-
-  /// Applies impulse p at anchors ra (on A, negated) and rb (on B).
-  PLUME_INLINE void apply(GVec3<T> const& p, GVec3<T> const& ra, GVec3<T> const& rb) noexcept {
-    a.linear_velocity = a.linear_velocity - p * ma;
-    a.angular_velocity = a.angular_velocity - ia * ra.cross(p);
-    b.linear_velocity = b.linear_velocity + p * mb;
-    b.angular_velocity = b.angular_velocity + ib * rb.cross(p);
-  }
-  /// Applies angular impulse j (-j on A, +j on B).
-  PLUME_INLINE void apply_angular(GVec3<T> const& j) noexcept {
-    a.angular_velocity = a.angular_velocity - ia * j;
-    b.angular_velocity = b.angular_velocity + ib * j;
-  }
-  PLUME_INLINE GVec3<T> relative_velocity(GVec3<T> const& ra, GVec3<T> const& rb) const noexcept {
-    return (b.linear_velocity + b.angular_velocity.cross(rb)) -
-           (a.linear_velocity + a.angular_velocity.cross(ra));
-  }
-};
-
-template <Real T>
-PLUME_INLINE ContactBodies<T> load_bodies(GContactConstraint<T> const& c,
-                                          BodyState const* states) noexcept {
-  return {gather_states<T>(states, c.state_a.data()),
-          gather_states<T>(states, c.state_b.data()),
-          c.inv_mass_a.get(),
-          c.inv_mass_b.get(),
-          c.inv_inertia_a.get(),
-          c.inv_inertia_b.get()};
-}
-
-template <Real T>
-PLUME_INLINE void store_bodies(GContactConstraint<T> const& c, BodyState* states,
-                               ContactBodies<T> const& bodies) noexcept {
-  scatter_velocities<T>(states, c.write_a.data(), bodies.a);
-  scatter_velocities<T>(states, c.write_b.data(), bodies.b);
-}
-
-} // namespace detail
-
 /// Applies the accumulated impulses (start of each substep).
 template <Real T>
 void warm_start_contacts(GContactConstraint<T> const& c, BodyState* states) noexcept {
-  auto bodies = detail::load_bodies(c, states);
+  auto bodies = load_constraint_bodies(c, states);
   GVec3<T> const n = c.normal.get(), t1 = c.tangent1.get(), t2 = c.tangent2.get();
   for (auto const& p : c.points)
     bodies.apply(n * p.normal_impulse.get(), p.anchor_a.get(), p.anchor_b.get());
   bodies.apply(t1 * c.tangent_impulse1.get() + t2 * c.tangent_impulse2.get(),
                c.friction_anchor_a.get(), c.friction_anchor_b.get());
   bodies.apply_angular(n * c.twist_impulse.get());
-  detail::store_bodies(c, states, bodies);
+  store_constraint_bodies(c, states, bodies);
 }
 
 /// One Gauss–Seidel pass over W manifolds: the normal impulse of each point (with the soft
@@ -275,7 +230,7 @@ void warm_start_contacts(GContactConstraint<T> const& c, BodyState* states) noex
 template <Real T>
 void solve_contacts(GContactConstraint<T>& c, BodyState* states, float inv_h, float max_push_speed,
                     bool use_bias) noexcept {
-  auto bodies = detail::load_bodies(c, states);
+  auto bodies = load_constraint_bodies(c, states);
   GVec3<T> const n = c.normal.get();
   GVec3<T> const dp = bodies.b.delta_position - bodies.a.delta_position;
   T const rate = c.bias_rate.get(), soft_mass = c.mass_scale.get(),
@@ -333,14 +288,14 @@ void solve_contacts(GContactConstraint<T>& c, BodyState* states, float inv_h, fl
     c.twist_impulse.set(next);
     bodies.apply_angular(n * (next - old));
   }
-  detail::store_bodies(c, states, bodies);
+  store_constraint_bodies(c, states, bodies);
 }
 
 /// Restitution, once after the substeps: points whose normal velocity at prepare was below
 /// -threshold (m/s) and that carried a normal impulse get v_n -> -e v_n0.
 template <Real T>
 void apply_restitution(GContactConstraint<T>& c, BodyState* states, float threshold) noexcept {
-  auto bodies = detail::load_bodies(c, states);
+  auto bodies = load_constraint_bodies(c, states);
   GVec3<T> const n = c.normal.get();
   T const e = c.restitution.get();
   T const zero_t = zero<T>();
@@ -357,7 +312,7 @@ void apply_restitution(GContactConstraint<T>& c, BodyState* states, float thresh
     p.max_normal_impulse.set(max_select(p.max_normal_impulse.get(), applied));
     bodies.apply(n * (applied - old), ra, rb);
   }
-  detail::store_bodies(c, states, bodies);
+  store_constraint_bodies(c, states, bodies);
 }
 
 } // namespace plume

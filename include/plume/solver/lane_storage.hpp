@@ -1,11 +1,13 @@
 // plume/solver/lane_storage.hpp - structure-of-arrays fields that are written one lane at a
 // time (when constraints are prepared, in plain float) and read whole (when the wide kernels
 // run): GGLaneArray<T> holds lanes_v<T> scalars, aligned so get() is one aligned load;
-// GGLaneVec3<T> holds three of them, GLaneSymMat3<T> the six entries of a symmetric matrix.
+// GGLaneVec3<T> holds three of them, GLaneQuat<T> four (a rotation), GLaneSymMat3<T> the six
+// entries of a symmetric matrix.
 // For T = float each is a single value.
 #pragma once
 
 #include <plume/math/mat3.hpp>
+#include <plume/math/quat.hpp>
 #include <plume/math/sym_mat3.hpp>
 #include <plume/math/vec3.hpp>
 #include <plume/numerics.hpp>
@@ -71,6 +73,20 @@ struct GLaneSymMat3 {
     xy[i] = s.xy;
     xz[i] = s.xz;
     yz[i] = s.yz;
+  }
+};
+
+/// A rotation per lane, four lane-wide fields.
+template <Real T>
+struct GLaneQuat {
+  GLaneArray<T> x, y, z, w;
+
+  GQuat<T> get() const noexcept { return {x.get(), y.get(), z.get(), w.get()}; }
+  void set_lane(std::size_t i, GQuat<scalar_t<T>> const& q) noexcept {
+    x[i] = q.x;
+    y[i] = q.y;
+    z[i] = q.z;
+    w[i] = q.w;
   }
 };
 

@@ -65,6 +65,10 @@ public:
   /// The graph colour of every contact, in contact order (what the solver packs by).
   std::vector<int> colors() const;
 
+  /// The colouring, shared with the world's joints (a colour holds contacts and joints with
+  /// no dynamic body twice).
+  ConstraintGraph& graph() noexcept { return graph_; }
+
   /// Room in the colouring for bodies 0..body_count-1.
   void reserve_bodies(std::size_t body_count) { graph_.reserve(body_count); }
 

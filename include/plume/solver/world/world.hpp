@@ -60,6 +60,7 @@
 #include <plume/solver/constraint_blocks.hpp>
 #include <plume/solver/constraint_graph.hpp>
 #include <plume/solver/contact_constraint.hpp>
+#include <plume/solver/joints/joint.hpp>
 #include <plume/solver/world/broad_phase.hpp>
 #include <plume/solver/world/contact_cache.hpp>
 #include <plume/spatial/height_field.hpp>
@@ -70,6 +71,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <span>
@@ -186,6 +188,19 @@ struct BodyId {
   friend bool operator==(BodyId, BodyId) = default;
 };
 
+/// A joint between two bodies (solver/joints/joint.hpp has the types, rows and errors).
+struct JointDef {
+  BodyId body_a, body_b;
+  JointFrame frame_a, frame_b; ///< each in its body's shape frame
+  JointType type = FixedJoint{};
+  /// false: the two bodies do not collide with each other while the joint exists.
+  bool collide_connected = false;
+  /// The joint breaks (stops acting, reported in StepEvents::joint_broken) in the first step
+  /// whose reaction force (N) or torque (N m) exceeds these.
+  float break_force = std::numeric_limits<float>::infinity();
+  float break_torque = std::numeric_limits<float>::infinity();
+};
+
 /// Which bodies a world query sees: those in a layer of `mask`, not in `exclude`, sensors
 /// only with `sensors`, and for which `predicate` (when set) returns true.
 struct QueryFilter {
@@ -246,6 +261,8 @@ struct BodyPair {
 struct StepEvents {
   std::vector<BodyPair> contact_begin, contact_end;
   std::vector<BodyPair> sensor_begin, sensor_end;
+  /// Joints whose reaction passed their break force or torque in this step, by joint index.
+  std::vector<JointId> joint_broken;
 };
 
 struct CreateBodyResult {
@@ -286,6 +303,11 @@ struct WorldConfig {
   /// Which broad phase finds the pairs (solver/world/broad_phase.hpp). Both give the same
   /// pairs, so the same world; sort_and_sweep is the baseline the BVH is measured against.
   BroadPhaseKind broad_phase = BroadPhaseKind::bvh;
+  /// Joint stiffness (Hz) and damping ratio of every joint row that holds an error at zero
+  /// (points, locks, limits), capped at a quarter of the substep rate as contact_hertz
+  /// (Box2D's defaults: 60 Hz, 2).
+  float joint_hertz = 60.0f;
+  float joint_damping_ratio = 2.0f;
 };
 
 /// Seconds spent in each part of the last step (std::chrono::steady_clock).
@@ -440,6 +462,42 @@ public:
   std::optional<WorldPointHit> project_point(Vec3 const& point, float max_distance,
                                              QueryFilter const& filter = {}) const;
 
+  // -------------------------------------------------------------- joints
+  // Joints (solver/joints/) between two bodies, solved in the step before the contacts, W at
+  // a time (graph-coloured with the contacts). Bad definitions are refused with a JointError
+  // and leave the world unchanged; destroying a body destroys its joints.
+
+  /// A new joint. bad_body (an id names no live body), same_body, bad_axis (JointFrame::basis
+  /// fails), bad_limits, bad_motor (Motor::valid), bad_value (a NaN or negative break
+  /// threshold).
+  CreateJointResult create_joint(JointDef const& def);
+  /// Removes the joint now (bad_joint for a stale id; the world is unchanged).
+  JointError destroy_joint(JointId id);
+  bool is_alive(JointId id) const noexcept {
+    return id.index < joints_.size() && joints_[id.index].alive &&
+           joints_[id.index].generation == id.generation;
+  }
+  /// Live joints.
+  std::size_t joint_count() const noexcept { return joints_.size() - free_joint_slots_.size(); }
+  /// The joint's definition as created (motor as last set). std::out_of_range for a stale id.
+  JointDef const& joint_def(JointId id) const { return joint(id).def; }
+  /// Angle, translation, speeds and reaction (JointState) now. std::out_of_range for a stale id.
+  JointState joint_state(JointId id) const;
+  /// Replaces the motor of a revolute or prismatic joint (bad_joint for another type or a
+  /// stale id; bad_motor when !motor.valid()). Effective from the next step.
+  JointError set_motor(JointId id, Motor const& motor);
+  /// Changes only the motor's targets (as set_motor).
+  JointError set_motor_targets(JointId id, float target_velocity, float target_position);
+  /// Joints of the body (any order), for a ragdoll's bookkeeping. std::out_of_range for a
+  /// stale body id.
+  std::vector<JointId> body_joints(BodyId id) const;
+  /// A frame on `body` from world-space data: its anchor at world_anchor, its axis along
+  /// world_axis, its normal along world_normal, all at the body's current pose (give two
+  /// bodies frames from the same world data and the joint starts at rest: angle 0,
+  /// translation 0). std::out_of_range for a stale id.
+  JointFrame joint_frame(BodyId body, Vec3 const& world_anchor, Vec3 const& world_axis,
+                         Vec3 const& world_normal = Vec3::Y) const;
+
   bool is_sensor(BodyId id) const { return body(id).sensor; }
   /// The last step's contact and sensor events.
   StepEvents const& events() const noexcept { return events_; }
@@ -494,6 +552,25 @@ private:
 
   /// The live body `id` names; std::out_of_range otherwise.
   Body const& body(BodyId id) const;
+
+  struct Joint {
+    JointDef def;
+    JointLaneParams params;
+    Quat basis_a = Quat::IDENTITY, basis_b = Quat::IDENTITY; ///< JointFrame::basis()
+    JointImpulses impulses{};
+    Vec3 force{}, torque{}; ///< the last step's reaction on body B (N, N m)
+    int color = ConstraintGraph::overflow;
+    bool colored = false;                      ///< color holds graph bits (or is overflow)
+    bool dynamic_a = false, dynamic_b = false; ///< as the colouring saw them
+    bool alive = true;
+    bool broken = false;
+    std::uint32_t generation = 0;
+  };
+  Joint const& joint(JointId id) const;
+  /// The pair keys of live joints whose bodies do not collide, sorted (repeats allowed).
+  std::vector<std::uint64_t> no_collide_pairs_;
+  bool jointed_no_collide(std::uint32_t a, std::uint32_t b) const;
+  void release_joint_color(Joint& j);
   /// Sets b's mass, centre of mass and inertia from its shape and density; false (b
   /// unchanged) when they give no positive finite mass.
   static bool give_mass(Body& b);
@@ -514,8 +591,27 @@ private:
   void prepare_bodies();
   template <class T>
   void pack_contacts(GConstraintBlocks<GContactConstraint, T>& blocks, float h) const;
+  /// The joints packed by kind, then by colour; items[k][i]: the joint of kind k's i-th.
   template <class T>
-  void solve_substeps(GConstraintBlocks<GContactConstraint, T>& blocks, int substeps, float h);
+  struct JointBlocks {
+    std::array<GConstraintBlocks<GJointConstraint, T>, joint_kind_count> by_kind;
+    std::array<std::vector<std::uint32_t>, joint_kind_count> items;
+    bool empty = true;
+  };
+  void color_joints();
+  template <class T>
+  void pack_joints(JointBlocks<T>& blocks, float h) const;
+  template <JointPass P, class T>
+  void run_joints(JointBlocks<T>& blocks, float inv_h);
+  template <class T>
+  void solve_substeps(GConstraintBlocks<GContactConstraint, T>& blocks, JointBlocks<T>& joints,
+                      int substeps, float h);
+  template <class T>
+  void store_joint_impulses(JointBlocks<T> const& blocks);
+  /// Reaction forces from the stored impulses and the poses now; joints past their
+  /// thresholds break (events_.joint_broken).
+  void update_joint_reactions(float h);
+  JointBody joint_body(std::uint32_t i) const;
   void integrate_velocities(float h);
   void integrate_positions(float h);
   template <class T>
@@ -549,6 +645,9 @@ private:
   std::vector<std::uint64_t> touching_before_, touching_now_; ///< contact pair keys
   std::vector<std::uint64_t> sensor_pairs_, sensor_now_;      ///< candidates, overlaps
   std::vector<std::uint32_t> free_slots_; ///< destroyed bodies' slots, reused last-freed first
+  std::vector<Joint> joints_;
+  std::vector<std::uint32_t>
+      free_joint_slots_; ///< destroyed joints' slots, reused last-freed first
   StepProfile profile_;
   std::array<std::size_t, ConstraintGraph::color_count + 1> color_sizes_{};
 };
