@@ -206,8 +206,30 @@ int main() {
                          std::abs(grounds.pose(on_field).translation.y - 0.5f) < 0.02f;
   std::printf("consumer: boxes on a mesh and a height field at y = %g, %g\n",
               grounds.pose(on_mesh).translation.y, grounds.pose(on_field).translation.y);
+  // The README's joints example: a motorised hinge reaches its target speed.
+  World jointed;
+  BodyId post = jointed.create_body({.type = BodyType::static_body, .shape = Sphere{0.05f}}).id;
+  BodyId fan = jointed
+                   .create_body({.pose = Iso3::from_translation({0, -0.5f, 0}),
+                                 .shape = Cuboid{{0.8f, 0.05f, 0.1f}}})
+                   .id;
+  JointId hinge =
+      jointed
+          .create_joint({.body_a = post,
+                         .body_b = fan,
+                         .frame_a = jointed.joint_frame(post, {0, -0.5f, 0}, Vec3::Y),
+                         .frame_b = jointed.joint_frame(fan, {0, -0.5f, 0}, Vec3::Y),
+                         .type = RevoluteJoint{.motor = Motor::velocity_control(6.0f, 50.0f)}})
+          .id;
+  for (int i = 0; i < 120; ++i)
+    jointed.step(1.0f / 60.0f);
+  JointState const js = jointed.joint_state(hinge);
+  bool const joint_ok = std::abs(js.angular_speed - 6.0f) < 0.01f &&
+                        jointed.set_motor(hinge, Motor::position_control(1.0f)) == JointError::none;
+  std::printf("consumer: a motorised hinge turns at %g rad/s\n", js.angular_speed);
   return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok && solver_ok &&
-          ray_ok && contact_ok && world_ok && spatial_ok && move_ok && ground_ok && hero_ok)
+          ray_ok && contact_ok && world_ok && spatial_ok && move_ok && ground_ok && hero_ok &&
+          joint_ok)
              ? 0
              : 1;
 }

@@ -407,6 +407,71 @@ std::uint64_t world_battery() {
   return w.state_hash();
 }
 
+/// Joints: two ragdolls falling on the ground, a chain with a heavy end, a car driving on
+/// motorised hinges, a prismatic lift and a spring, with a joint destroyed, a motor retargeted
+/// and a joint broken mid-run; 150 steps solved lanes_v<T> joints and contacts at a time.
+template <class T>
+std::uint64_t joint_battery() {
+  World w;
+  add_ground(w);
+  add_ragdoll(w, {0.0f, 1.3f, 0.0f});
+  Jointed const doll = add_ragdoll(w, {1.2f, 2.0f, 0.6f});
+  w.set_velocity(doll.bodies[4], {1.0f, 0.0f, 2.0f}, {});
+  Jointed const chain = add_chain(w, {-4.0f, 7.0f, 0.0f}, 10, 0.5f, 20.0f);
+  Jointed const car = add_car(w, {4.0f, 0.62f, 2.0f});
+  for (JointId j : car.joints)
+    w.set_motor_targets(j, -4.0f, 0.0f);
+  BodyId const post = w.create_body({.type = BodyType::static_body,
+                                     .pose = Iso3::from_translation({-2.0f, 3.0f, -3.0f}),
+                                     .shape = Sphere{0.05f}})
+                          .id;
+  BodyId const lift = w.create_body({.pose = Iso3::from_translation({-2.0f, 2.0f, -3.0f}),
+                                     .shape = Cuboid{Vec3::splat(0.2f)}})
+                          .id;
+  w.create_joint({.body_a = post,
+                  .body_b = lift,
+                  .frame_a = w.joint_frame(post, {-2.0f, 2.0f, -3.0f}, Vec3::Y),
+                  .frame_b = w.joint_frame(lift, {-2.0f, 2.0f, -3.0f}, Vec3::Y),
+                  .type = PrismaticJoint{.limit_enabled = true,
+                                         .lower_translation = -1.0f,
+                                         .upper_translation = 0.5f,
+                                         .motor = Motor::velocity_control(1.0f, 500.0f)}});
+  BodyId const bob =
+      w.create_body({.pose = Iso3::from_translation({-2.0f, 2.0f, -5.0f}), .shape = Sphere{0.2f}})
+          .id;
+  w.create_joint(
+      {.body_a = post,
+       .body_b = bob,
+       .frame_a = w.joint_frame(post, {-2.0f, 3.0f, -3.0f}, Vec3::X),
+       .frame_b = w.joint_frame(bob, {-2.0f, 2.0f, -5.0f}, Vec3::X),
+       .type = DistanceJoint{
+           .rest_length = 1.5f, .spring_enabled = true, .frequency = 2.0f, .damping_ratio = 0.3f}});
+  BodyId const weight = w.create_body({.pose = Iso3::from_translation({3.0f, 5.0f, -3.0f}),
+                                       .shape = Cuboid{Vec3::splat(0.3f)}})
+                            .id;
+  BodyId const hook = w.create_body({.type = BodyType::static_body,
+                                     .pose = Iso3::from_translation({3.0f, 5.5f, -3.0f}),
+                                     .shape = Sphere{0.05f}})
+                          .id;
+  w.create_joint({.body_a = hook,
+                  .body_b = weight,
+                  .frame_a = w.joint_frame(hook, {3.0f, 5.5f, -3.0f}, Vec3::X),
+                  .frame_b = w.joint_frame(weight, {3.0f, 5.5f, -3.0f}, Vec3::X),
+                  .type = FixedJoint{},
+                  .break_force = 3000.0f});
+  std::uint64_t broken = 0;
+  for (int s = 0; s < 150; ++s) {
+    if (s == 50) w.destroy_joint(chain.joints[5]);
+    if (s == 70)
+      for (JointId j : car.joints)
+        w.set_motor_targets(j, 2.0f, 0.0f);
+    if (s == 90) w.set_velocity(weight, {0.0f, -30.0f, 0.0f}, {}); // breaks its weld
+    w.template step_with<T>(1.0f / 60.0f);
+    broken += w.events().joint_broken.size() * std::uint64_t(s + 1);
+  }
+  return (w.state_hash() ^ broken) * 1099511628211ull;
+}
+
 /// Destroying and creating bodies mid-run (slots reused at their next generation), then the
 /// world's queries: the state and the rays' hits (body, toi bits) hashed together.
 template <class T>
@@ -538,10 +603,9 @@ std::uint64_t world_mesh_battery() {
     std::exit(1);
   }
   World w;
-  w.create_body(
-      {.type = BodyType::static_body,
-       .pose = Iso3::from_translation({-12.0f, 0.0f, -6.0f}),
-       .shape = MeshShape{std::make_shared<TriangleMesh const>(std::move(mesh.mesh))}});
+  w.create_body({.type = BodyType::static_body,
+                 .pose = Iso3::from_translation({-12.0f, 0.0f, -6.0f}),
+                 .shape = MeshShape{std::make_shared<TriangleMesh const>(std::move(mesh.mesh))}});
   w.create_body(
       {.type = BodyType::static_body,
        .pose = Iso3{Quat::from_axis_angle(Vec3::Y, 0.3f), {1.0f, 0.0f, -6.0f}},
@@ -574,8 +638,8 @@ std::uint64_t world_mesh_battery() {
     Vec3 const o{1.5f * float(k) - 12.0f, 5.0f, 0.4f * float(k % 4)};
     auto const ray = w.ray_cast({o, {0.1f, -1.0f, 0.05f}}, 50.0f);
     mix(ray ? ray->toi : -1.0f);
-    auto const cast = w.shape_cast(Cuboid{{0.2f, 0.2f, 0.2f}}, Iso3::from_translation(o),
-                                   {0.0f, -8.0f, 0.1f});
+    auto const cast =
+        w.shape_cast(Cuboid{{0.2f, 0.2f, 0.2f}}, Iso3::from_translation(o), {0.0f, -8.0f, 0.1f});
     mix(cast ? cast->toi : -1.0f);
     w.contact_query(Sphere{0.5f}, Iso3::from_translation({o.x, 0.3f, o.z}), 0.05f,
                     [&](BodyId, Manifold const& m) {
@@ -623,6 +687,7 @@ int main(int argc, char** argv) {
   record("contact_f32", contact_battery<float>(), {});
   battery("world_f32", f32_widths{}, []<class T>() { return world_battery<T>(); });
   battery("world_edit_f32", f32_widths{}, []<class T>() { return world_edit_battery<T>(); });
+  battery("joints_f32", f32_widths{}, []<class T>() { return joint_battery<T>(); });
   battery("world_mesh_f32", f32_widths{}, []<class T>() { return world_mesh_battery<T>(); });
   battery("tree_f32", f32_widths{}, []<class T>() { return tree_battery<T>(); });
   record("contact_f64", contact_battery<double>(), {});

@@ -311,8 +311,10 @@ struct WorldConfig {
 };
 
 /// Seconds spent in each part of the last step (std::chrono::steady_clock).
+/// joints: the part of solve spent in the joint passes (warm start, solve, relax).
 struct StepProfile {
   double broad_phase = 0, narrow_phase = 0, prepare = 0, solve = 0, finalize = 0, total = 0;
+  double joints = 0;
 };
 
 class World {
