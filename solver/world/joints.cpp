@@ -121,6 +121,7 @@ CreateJointResult World::create_joint(JointDef const& def) {
     std::uint64_t const k = body_pair_key(def.body_a.index, def.body_b.index);
     no_collide_pairs_.insert(
         std::upper_bound(no_collide_pairs_.begin(), no_collide_pairs_.end(), k), k);
+    joints_[index].filters = true;
   }
   return {JointId{index, joints_[index].generation}, JointError::none};
 }
@@ -137,17 +138,30 @@ JointError World::destroy_joint(JointId id) {
   if (!is_alive(id)) return JointError::bad_joint;
   Joint& j = joints_[id.index];
   release_joint_color(j);
-  if (!j.def.collide_connected) {
-    std::uint64_t const k = body_pair_key(j.def.body_a.index, j.def.body_b.index);
-    auto const it = std::lower_bound(no_collide_pairs_.begin(), no_collide_pairs_.end(), k);
-    if (it != no_collide_pairs_.end() && *it == k) no_collide_pairs_.erase(it);
-  }
+  stop_filtering(j);
   Joint dead;
   dead.alive = false;
   dead.generation = j.generation + 1;
   j = std::move(dead);
   free_joint_slots_.push_back(id.index);
   return JointError::none;
+}
+
+void World::stop_filtering(Joint& j) {
+  if (!j.filters) return;
+  std::uint64_t const k = body_pair_key(j.def.body_a.index, j.def.body_b.index);
+  auto const it = std::lower_bound(no_collide_pairs_.begin(), no_collide_pairs_.end(), k);
+  if (it != no_collide_pairs_.end() && *it == k) no_collide_pairs_.erase(it);
+  j.filters = false;
+}
+
+void World::reset_joint_impulses(std::span<std::uint32_t const> bodies) {
+  if (bodies.empty()) return;
+  for (Joint& j : joints_)
+    if (j.alive && std::find_if(bodies.begin(), bodies.end(), [&](std::uint32_t b) {
+                     return b == j.def.body_a.index || b == j.def.body_b.index;
+                   }) != bodies.end())
+      j.impulses = JointImpulses{};
 }
 
 bool World::jointed_no_collide(std::uint32_t a, std::uint32_t b) const {
@@ -243,6 +257,7 @@ JointState World::joint_state(JointId id) const {
   case JointKind::spherical:
     s.angle = st.twist;
     s.swing = st.swing_angle;
+    s.angular_speed = (wb - wa).dot(twist_axis(qa, qb));
     break;
   case JointKind::prismatic:
     s.translation = d.dot(x);
@@ -292,7 +307,7 @@ void World::update_joint_reactions(float h) {
       GSwingTwist<float> const st = swing_twist(qa, qb);
       Vec3 const swing_axis = (qa * Vec3{0.0f, st.swing_y, st.swing_z}).normalize_or(y);
       lin = l.point;
-      ang = x * (l.lower - l.upper) - swing_axis * l.cone;
+      ang = twist_axis(qa, qb) * (l.lower - l.upper) - swing_axis * l.cone;
       break;
     }
     case JointKind::distance: {
@@ -305,8 +320,9 @@ void World::update_joint_reactions(float h) {
     j.force = lin * inv_h;
     j.torque = ang * inv_h;
     if (j.force.length() > j.def.break_force || j.torque.length() > j.def.break_torque) {
-      j.broken = true;
+      j.broken = true; // stops acting and filtering: the pieces collide from the next step
       j.impulses = JointImpulses{};
+      stop_filtering(j);
       events_.joint_broken.push_back(JointId{i, j.generation});
     }
   }

@@ -267,7 +267,14 @@ void World::store_joint_impulses(JointBlocks<T> const& blocks) {
     auto const& items = blocks.items[std::size_t(k)];
     blocks.by_kind[std::size_t(k)].for_each_lane(
         [&](auto const& c, std::size_t lane, std::uint32_t local) {
-          joints_[items[local]].impulses = joint_impulses(c, lane);
+          JointImpulses const l = joint_impulses(c, lane);
+          // A non-finite impulse (a body that froze this step) must not warm start anything.
+          bool ok = l.point.is_finite() && std::isfinite(((l.lower + l.upper) + l.motor) + l.cone);
+          for (float x : l.angular)
+            ok = ok && std::isfinite(x);
+          for (float x : l.linear)
+            ok = ok && std::isfinite(x);
+          joints_[items[local]].impulses = ok ? l : JointImpulses{};
         });
   }
 }
@@ -361,6 +368,7 @@ void World::finalize_bodies() {
   }
   // Their contacts end now; the next step finds them again with the body static.
   cache_.remove_bodies(newly_frozen);
+  reset_joint_impulses(newly_frozen); // their joints start afresh
 }
 
 template <class T>

@@ -96,6 +96,7 @@ BodyError World::set_type(BodyId id, BodyType type) {
   // the contacts again.
   std::uint32_t const one[] = {i};
   cache_.remove_bodies(one);
+  reset_joint_impulses(one); // its joints' impulses were for the old type
   BodyType const was = b.type;
   b.type = type;
   if (b.frozen) { // a frozen body set to any type starts afresh, at rest where it stopped

@@ -118,6 +118,10 @@ TEST_CASE("joints: a motor at its max torque accelerates a wheel at T / I, then 
     s.w.step(dt);
   INFO("alpha " << alpha << " w(1 s) " << s.w.joint_state(s.hinge).angular_speed);
   CHECK(s.w.joint_state(s.hinge).angular_speed == Approx(alpha).epsilon(0.01));
+  // While accelerating, the joint's torque on the wheel is the motor's, along the axis.
+  Vec3 const accelerating = s.w.joint_state(s.hinge).reaction_torque;
+  CHECK(accelerating.z == Approx(torque).epsilon(1e-3));
+  CHECK(std::abs(accelerating.x) + std::abs(accelerating.y) < 1e-3f * torque);
   int const steps = int(std::ceil((t_reach + 1.0f) / dt));
   for (int i = 0; i < steps; ++i)
     s.w.step(dt);
@@ -156,8 +160,82 @@ TEST_CASE("joints: the spring-damper motor's step responses follow the closed fo
     }
     float const overshoot = std::exp(-pi_f * zeta / std::sqrt(1.0f - zeta * zeta));
     INFO("overshoot " << peak - 1.0f << " textbook " << overshoot);
-    CHECK(peak - 1.0f == Approx(overshoot).epsilon(0.1));
+    CHECK(peak - 1.0f == Approx(overshoot).epsilon(0.02));
   }
+  SECTION("stiff critically damped springs do not overshoot, up to absurd frequencies") {
+    // 60 Hz (omega h = 1.6 at h = 1/240 s), 1 kHz, 1e19 Hz (omega^2 beyond float).
+    for (float stiff : {60.0f, 1000.0f, 1e19f}) {
+      Wheel s(RevoluteJoint{.motor = Motor::position_control(1.0f, stiff, 1.0f)});
+      float peak = 0.0f;
+      for (int i = 0; i < 60; ++i) {
+        s.w.step(dt);
+        peak = std::max(peak, s.w.joint_state(s.hinge).angle);
+      }
+      INFO(stiff << " Hz: peak " << peak << ", after 1 s " << s.w.joint_state(s.hinge).angle);
+      CHECK(peak <= 1.01f);
+      CHECK(s.w.joint_state(s.hinge).angle == Approx(1.0f).margin(1e-3f));
+    }
+  }
+}
+
+TEST_CASE("joints: the acceleration and force motor models match the spring-damper they equal",
+          "[joints][motor]") {
+  // spring_damper (f, zeta) is acceleration (k = w^2, d = 2 zeta w), and force with k, d
+  // times the wheel's moment of inertia (the row's effective mass).
+  float const f = 2.0f, zeta = 0.5f, target = 1.0f;
+  float const omega = 2.0f * 3.14159265358979f * f;
+  float const k = omega * omega, d = 2.0f * zeta * omega;
+  auto const run = [&](Motor m) {
+    m.enabled = true;
+    m.target_position = target;
+    Wheel s(RevoluteJoint{.motor = m});
+    std::vector<float> angles;
+    for (int i = 0; i < 90; ++i) {
+      s.w.step(1.0f / 60.0f);
+      angles.push_back(s.w.joint_state(s.hinge).angle);
+    }
+    return std::pair{angles, s.inertia};
+  };
+  Motor spring;
+  spring.frequency = f;
+  spring.damping_ratio = zeta;
+  auto const [reference, inertia] = run(spring);
+  Motor accel;
+  accel.model = MotorModel::acceleration;
+  accel.stiffness = k;
+  accel.damping = d;
+  Motor force;
+  force.model = MotorModel::force;
+  force.stiffness = k * inertia;
+  force.damping = d * inertia;
+  auto const by_accel = run(accel).first;
+  auto const by_force = run(force).first;
+  float worst_accel = 0.0f, worst_force = 0.0f;
+  for (std::size_t i = 0; i < reference.size(); ++i) {
+    worst_accel = std::max(worst_accel, std::abs(by_accel[i] - reference[i]));
+    worst_force = std::max(worst_force, std::abs(by_force[i] - reference[i]));
+  }
+  INFO("largest differences: acceleration " << worst_accel << ", force " << worst_force);
+  CHECK(worst_accel < 1e-5f);
+  CHECK(worst_force < 1e-3f);
+  // It moved: an underdamped response, past the target and back.
+  float const peak = *std::max_element(reference.begin(), reference.end());
+  CHECK(peak > 1.1f);
+  CHECK(reference.back() == Approx(target).margin(0.02f));
+  // The same spring on a wheel twice as heavy: acceleration-based is mass-independent (the
+  // same angles), force-based is not (slower).
+  auto const heavy = [&](Motor m) {
+    m.enabled = true;
+    m.target_position = target;
+    // Radius x 2^(1/5): I = 2/5 m r^2 grows as r^5, so twice the inertia.
+    Wheel s(RevoluteJoint{.motor = m}, 0.5f * std::pow(2.0f, 0.2f));
+    for (int i = 0; i < 15; ++i)
+      s.w.step(1.0f / 60.0f);
+    return s.w.joint_state(s.hinge).angle;
+  };
+  float const light_at = reference[14];
+  CHECK(heavy(accel) == Approx(light_at).margin(1e-4f));
+  CHECK(heavy(force) < light_at - 0.05f);
 }
 
 TEST_CASE("joints: a prismatic motor lifts a mass when its max force beats the weight",
@@ -225,8 +303,10 @@ TEST_CASE("joints: hinge limits hold a door at 0 and 90 degrees", "[joints][limi
     CHECK(lo >= -0.01f);
     CHECK(hi <= 90.0f * deg + 0.01f);
     CHECK(w.joint_state(hinge).angle == Approx(v > 0.0f ? 90.0f * deg : 0.0f).margin(0.01f));
-    // Held still against the motor: the limit's reaction is the motor's torque.
+    // Held still against the motor: the limit's row takes the motor's 500 N m, so the
+    // joint's net torque on the door about the hinge is nothing.
     CHECK(std::abs(w.joint_state(hinge).angular_speed) < 1e-3f);
+    CHECK(std::abs(w.joint_state(hinge).reaction_torque.y) < 0.01f * 500.0f);
   }
 }
 
@@ -387,6 +467,79 @@ TEST_CASE("joints: a car on four motorised hinges drives up a 10 degree ramp at 
   CHECK(w.pose(car.bodies[0]).rotation.angle_between(heading) < 2.0f * deg);
 }
 
+TEST_CASE("joints: between two free bodies, every joint type conserves momentum",
+          "[joints]") {
+  // Two cubes (isotropic inertia m s^2 / 6) joined 2 m apart, spinning together about z and
+  // tumbling, no gravity: a joint's impulses are internal (equal and opposite, through one
+  // point), so the total linear and angular momentum stay what they were. A wrong Jacobian
+  // (a lever arm from the wrong anchor) shows up as a torque from nowhere.
+  float const deg_f = 3.14159265f / 180.0f;
+  JointType const types[] = {
+      FixedJoint{},
+      RevoluteJoint{.limit_enabled = true, .lower_angle = -0.2f, .upper_angle = 0.2f,
+                    .motor = Motor::velocity_control(3.0f, 50.0f)},
+      PrismaticJoint{.limit_enabled = true, .lower_translation = -0.3f,
+                     .upper_translation = 0.6f, .motor = Motor::velocity_control(1.0f, 400.0f)},
+      SphericalJoint{.cone_enabled = true, .cone_angle = 20.0f * deg_f,
+                     .twist_limit_enabled = true, .lower_twist = -0.1f, .upper_twist = 0.1f},
+      DistanceJoint{.rest_length = 1.0f, .min_length = 0.8f, .max_length = 1.3f,
+                    .spring_enabled = true, .frequency = 3.0f, .damping_ratio = 0.2f}};
+  for (JointType const& type : types) {
+    World w(no_gravity());
+    float const half = 0.25f;
+    BodyId const a = w.create_body({.pose = Iso3::from_translation({-1.0f, 0.0f, 0.0f}),
+                                    .shape = Cuboid{Vec3::splat(half)}})
+                         .id;
+    BodyId const b = w.create_body({.pose = Iso3::from_translation({1.0f, 0.0f, 0.0f}),
+                                    .shape = Cuboid{Vec3::splat(half)}})
+                         .id;
+    // The prismatic and distance joints join the two centres (their coordinate is the
+    // anchors' separation); the others a point between the cubes.
+    bool const apart = std::holds_alternative<PrismaticJoint>(type) ||
+                       std::holds_alternative<DistanceJoint>(type);
+    JointDef def{.body_a = a,
+                 .body_b = b,
+                 .frame_a = w.joint_frame(a, apart ? Vec3{-1.0f, 0, 0} : Vec3{}, Vec3::X),
+                 .frame_b = w.joint_frame(b, apart ? Vec3{1.0f, 0, 0} : Vec3{}, Vec3::X),
+                 .type = type};
+    if (std::holds_alternative<DistanceJoint>(type)) {
+      def.frame_a.anchor = {};
+      def.frame_b.anchor = {};
+    }
+    JointId const j = w.create_joint(def).id;
+    REQUIRE(w.is_alive(j));
+    // Spin about z (a rigid rotation at 2 rad/s), plus a tumble of each cube and a kick.
+    w.set_velocity(a, {0.0f, -2.0f, 0.3f}, {0.5f, 0.0f, 2.0f});
+    w.set_velocity(b, {0.2f, 2.0f, -0.3f}, {0.0f, -0.7f, 2.0f});
+    float const inertia = w.mass(a) * (2.0f * half) * (2.0f * half) / 6.0f;
+    auto const momentum = [&] {
+      Vec3 p{}, l{};
+      for (BodyId id : {a, b}) {
+        Vec3 const v = w.linear_velocity(id) * w.mass(id);
+        p = p + v;
+        l = l + w.center_of_mass(id).cross(v) + w.angular_velocity(id) * inertia;
+      }
+      return std::pair{p, l};
+    };
+    auto const [p0, l0] = momentum();
+    float worst_p = 0.0f, worst_l = 0.0f;
+    for (int i = 0; i < 120; ++i) {
+      w.step(1.0f / 60.0f);
+      auto const [p, l] = momentum();
+      worst_p = std::max(worst_p, (p - p0).length());
+      worst_l = std::max(worst_l, (l - l0).length());
+    }
+    INFO(to_string(JointKind(type.index())) << ": linear momentum off by " << worst_p
+                                            << " of " << p0.length() << ", angular by "
+                                            << worst_l << " of " << l0.length());
+    CHECK(worst_p < 1e-3f * w.mass(a));
+    CHECK(worst_l < 2e-3f * l0.length());
+    // The joint acted (the bodies no longer move as they were set to).
+    CHECK((w.joint_state(j).reaction_force.length() > 1.0f ||
+           w.joint_state(j).reaction_torque.length() > 1.0f));
+  }
+}
+
 TEST_CASE("joints: reactions, breaking, and bodies that do not collide", "[joints]") {
   SECTION("a fixed joint holding a box reports its weight; past break_force it breaks") {
     World w;
@@ -450,6 +603,8 @@ TEST_CASE("joints: reactions, breaking, and bodies that do not collide", "[joint
     // The slot is reused with a new generation: the old id still names nothing.
     JointId const again =
         w.create_joint(joint_at(w, chain.bodies[0], chain.bodies[1], {}, Vec3::X, FixedJoint{})).id;
+    CHECK(again.index == chain.joints[2].index); // the last freed slot
+    CHECK(again.generation == chain.joints[2].generation + 1);
     CHECK(!w.is_alive(chain.joints[1]));
     CHECK(!w.is_alive(chain.joints[2]));
     CHECK(w.is_alive(again));
@@ -582,6 +737,87 @@ TEST_CASE("joints: abuse stays finite and contained", "[joints][bad-input]") {
     }
     // The bystander (gravity only) fell freely: nothing reached it.
     CHECK(w.linear_velocity(bystander).y == Approx(-9.81f * 4.0f).epsilon(1e-3));
+  }
+}
+
+TEST_CASE("joints: review cases: big targets, extreme axes, frozen bodies, broken joints",
+          "[joints][bad-input]") {
+  SECTION("a target of 1e8 rad is 1e8 mod 2 pi (exact in float, reduced in double)") {
+    Wheel s(RevoluteJoint{.motor = Motor::position_control(1e8f, 5.0f, 1.0f)});
+    for (int i = 0; i < 120; ++i)
+      s.w.step(1.0f / 60.0f);
+    float const expected = float(std::remainder(1e8, 2.0 * std::numbers::pi));
+    CHECK(s.w.joint_state(s.hinge).angle == Approx(expected).margin(1e-3f));
+  }
+  SECTION("axes 1e20 and 1e-25 long are axes") {
+    World w;
+    BodyId const a = w.create_body({.shape = Sphere{0.5f}}).id;
+    BodyId const b = w.create_body({.pose = Iso3::from_translation({2.0f, 0, 0}),
+                                    .shape = Sphere{0.5f}})
+                         .id;
+    for (float len : {1e20f, 1e-25f}) {
+      JointDef d = joint_at(w, a, b, {1.0f, 0, 0}, Vec3::X, RevoluteJoint{});
+      d.frame_a.axis = Vec3{0.0f, len, 0.0f};
+      d.frame_b.axis = Vec3{0.0f, len, 0.0f};
+      d.frame_a.normal = Vec3{len, 0.0f, 0.0f};
+      CreateJointResult const r = w.create_joint(d);
+      CHECK(r.error == JointError::none);
+    }
+  }
+  SECTION("a body frozen by an absurd motor is unfrozen and stays so") {
+    World w;
+    BodyId const top = add_static(w, {0.0f, 5.0f, 0.0f});
+    std::vector<BodyId> links;
+    std::vector<JointId> hinges;
+    BodyId prev = top;
+    for (int i = 0; i < 5; ++i) {
+      BodyId const link =
+          w.create_body({.pose = Iso3::from_translation({0.5f + float(i), 5.0f, 0.0f}),
+                         .shape = Cuboid{{0.45f, 0.1f, 0.1f}}})
+              .id;
+      hinges.push_back(w.create_joint(joint_at(w, prev, link, {float(i), 5.0f, 0.0f}, Vec3::Z,
+                                               RevoluteJoint{.motor = Motor::velocity_control(
+                                                                 3e38f, 1e38f)}))
+                           .id);
+      links.push_back(link);
+      prev = link;
+    }
+    for (int i = 0; i < 10; ++i)
+      w.step(1.0f / 60.0f);
+    REQUIRE(!w.frozen_bodies().empty());
+    for (JointId j : hinges)
+      REQUIRE(w.set_motor(j, Motor{}) == JointError::none);
+    for (BodyId l : links)
+      REQUIRE(w.set_type(l, BodyType::dynamic) == BodyError::none);
+    std::size_t const frozen_before = w.frozen_bodies().size();
+    for (int i = 0; i < 60; ++i)
+      w.step(1.0f / 60.0f);
+    CHECK(w.frozen_bodies().size() == frozen_before); // none froze again
+    for (BodyId l : links) {
+      CHECK(!w.is_frozen(l));
+      CHECK(w.pose(l).translation.is_finite());
+    }
+    for (JointId j : hinges)
+      CHECK(w.joint_state(j).reaction_force.is_finite());
+  }
+  SECTION("a broken joint's bodies collide again") {
+    World w(no_gravity());
+    BodyId const a = w.create_body({.shape = Cuboid{Vec3::splat(0.5f)}}).id;
+    BodyId const b = w.create_body({.pose = Iso3::from_translation({0.8f, 0.0f, 0.0f}),
+                                    .shape = Cuboid{Vec3::splat(0.5f)}})
+                         .id;
+    JointDef def = joint_at(w, a, b, {0.4f, 0.0f, 0.0f}, Vec3::X, FixedJoint{});
+    def.break_force = 10.0f;
+    JointId const j = w.create_joint(def).id;
+    w.step(1.0f / 60.0f);
+    CHECK(w.contacts().empty());
+    w.set_velocity(b, {0.0f, 50.0f, 0.0f}, {}); // tears it
+    w.step(1.0f / 60.0f);
+    REQUIRE(w.joint_state(j).broken);
+    w.set_velocity(b, {}, {});
+    w.step(1.0f / 60.0f);
+    CHECK(!w.contacts().empty());
+    CHECK(w.is_alive(j)); // broken, not destroyed
   }
 }
 

@@ -67,10 +67,11 @@ struct JointState {
   float swing = 0.0f;
   /// Prismatic: (anchor B - anchor A) . axis (m); distance: |anchor B - anchor A|; others 0.
   float translation = 0.0f;
-  float angular_speed = 0.0f; ///< (w_B - w_A) . axis (rad/s)
-  float linear_speed = 0.0f;  ///< the translation's rate (m/s): prismatic and distance
-  Vec3 reaction_force{};      ///< on body B, world (N), over the last substep of the last step
-  Vec3 reaction_torque{};     ///< on body B, world (N m), the angular rows only
+  /// The angle's rate (rad/s): (w_B - w_A) . axis; spherical: . twist_axis() (the twist's)
+  float angular_speed = 0.0f;
+  float linear_speed = 0.0f; ///< the translation's rate (m/s): prismatic and distance
+  Vec3 reaction_force{};     ///< on body B, world (N), over the last substep of the last step
+  Vec3 reaction_torque{};    ///< on body B, world (N m), the angular rows only
   bool broken = false;
 };
 

@@ -27,6 +27,7 @@
 #include <plume/solver/lane_storage.hpp>
 #include <plume/solver/softness.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -50,16 +51,23 @@ struct JointFrame {
   Vec3 normal = Vec3::Y; ///< angle 0: where the two frames' normals agree about the axis
 
   /// The frame's rotation in the body frame: x along axis, y along normal made orthogonal
-  /// to it (any orthogonal direction when normal is zero, non-finite or along the axis),
-  /// z = x cross y. nullopt when the axis is zero or non-finite, or the anchor non-finite.
+  /// to it (any orthogonal direction when normal is zero or along the axis), z = x cross y.
+  /// nullopt when the axis is zero, or the anchor, axis or normal not finite.
   std::optional<Quat> basis() const noexcept {
-    if (!anchor.is_finite()) return std::nullopt;
-    float const len = axis.length();
-    if (!(len > 0.0f) || !std::isfinite(len)) return std::nullopt;
-    Vec3 const x = axis * (1.0f / len);
-    Vec3 y = normal - x * x.dot(normal);
+    if (!anchor.is_finite() || !axis.is_finite() || !normal.is_finite()) return std::nullopt;
+    // Scaled by the largest component first, so 1e-30 and 1e30 long axes normalise too.
+    auto const unit = [](Vec3 v) {
+      float const big = std::max(std::max(std::abs(v.x), std::abs(v.y)), std::abs(v.z));
+      if (!(big > 0.0f)) return Vec3{};
+      v = v * (1.0f / big);
+      return v * (1.0f / v.length());
+    };
+    Vec3 const x = unit(axis);
+    if (!(x.length_squared() > 0.0f)) return std::nullopt;
+    Vec3 const n = unit(normal);
+    Vec3 y = n - x * x.dot(n);
     float const ly = y.length();
-    if (!(ly > 1e-4f * normal.length()) || !std::isfinite(ly) || !(ly > 0.0f))
+    if (!(ly > 1e-4f))
       y = x.any_orthonormal_vector();
     else
       y = y * (1.0f / ly);
@@ -179,7 +187,13 @@ void prepare_joint_lane(GJointConstraint<T>& c, std::size_t lane, JointBody cons
   Motor const& m = p.motor;
   MotorCoefficients const mc = motor_coefficients(m, w, h);
   c.motor_target_velocity[i] = m.enabled ? m.target_velocity : 0.0f;
-  c.motor_target_position[i] = m.enabled ? m.target_position : 0.0f;
+  // An angle target reduced to [-pi, pi] in double, so that a target of 1e8 rad (exact in
+  // float) keeps its meaning through wrap_angle()'s float arithmetic.
+  float const target =
+      p.kind == JointKind::revolute
+          ? float(std::remainder(double(m.target_position), 2.0 * 3.14159265358979323846))
+          : m.target_position;
+  c.motor_target_position[i] = m.enabled ? target : 0.0f;
   c.motor_max_impulse[i] = m.enabled ? m.max_force * h : 0.0f;
   c.motor_mass_scale[i] = mc.mass_scale;
   c.motor_bias_scale[i] = mc.bias_scale;

@@ -311,6 +311,17 @@ PLUME_INLINE GSwingTwist<T> swing_twist(GQuat<T> const& frame_a, GQuat<T> const&
           two * plume::atan2(plume::sqrt(sy * sy + sz * sz), n)};
 }
 
+/// The axis u whose u . (w_B - w_A) is the rate of swing_twist()'s twist angle:
+/// (x_A + x_B) / (1 + x_A . x_B), x_A and x_B the two frames' x axes (frame A's x without
+/// swing; longer as the swing grows: 1 / cos^2(swing / 2)). Near a half-turn swing the
+/// denominator is held at 1e-3.
+template <Real T>
+PLUME_INLINE GVec3<T> twist_axis(GQuat<T> const& frame_a, GQuat<T> const& frame_b) noexcept {
+  GVec3<T> const ex{one<T>(), zero<T>(), zero<T>()};
+  GVec3<T> const xa = frame_a.mul_vec3(ex), xb = frame_b.mul_vec3(ex);
+  return (xa + xb) * (one<T>() / max_select(one<T>() + xa.dot(xb), T(1e-3f)));
+}
+
 /// x - 2 pi round(x / (2 pi)): an angle error wrapped to [-pi, pi) (up to rounding at the ends).
 template <Real T>
 PLUME_INLINE T wrap_angle(T x) noexcept {

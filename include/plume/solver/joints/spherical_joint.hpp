@@ -5,9 +5,8 @@
 // (JointFrame::axis: the twist axis, a bone's length) and a swing of that axis
 // (solver/joints/joint_rows.hpp, swing_twist): the cone limit keeps the swing angle within
 // cone_angle (rad, in [0, pi]), the twist limits keep the twist angle in [lower, upper]
-// (within [-pi, pi]). The twist is measured about frame A's axis, exact without swing and
-// an approximation that grows with it (a ragdoll's shoulder within 90 degrees of cone stays
-// well-behaved). Rows, in solve order: cone, lower and upper twist limits, the point row.
+// (within [-pi, pi]). The twist rows' axis is twist_axis(): the twist's exact rate at any
+// swing. Rows, in solve order: cone, lower and upper twist limits, the point row.
 #pragma once
 
 #include <plume/solver/joints/joint_constraint.hpp>
@@ -52,10 +51,10 @@ void spherical_joint_pass(GJointConstraint<T>& c, BodyState* states, T inv_h) no
       g.qa.mul_vec3(GVec3<T>{zero<T>(), st.swing_y, st.swing_z}).normalize_or(g.y_axis());
   angular_limit_row<P>(c.cone_impulse, b, -swing_axis, c.cone_angle.get() - st.swing_angle,
                        c.cone_cap.get(), soft, inv_h);
-  GVec3<T> const x = g.x_axis();
+  GVec3<T> const u = twist_axis(g.qa, g.qb);
   T const cap = c.limit_cap.get();
-  angular_limit_row<P>(c.lower_impulse, b, x, st.twist - c.lower.get(), cap, soft, inv_h);
-  angular_limit_row<P>(c.upper_impulse, b, -x, c.upper.get() - st.twist, cap, soft, inv_h);
+  angular_limit_row<P>(c.lower_impulse, b, u, st.twist - c.lower.get(), cap, soft, inv_h);
+  angular_limit_row<P>(c.upper_impulse, b, -u, c.upper.get() - st.twist, cap, soft, inv_h);
   point_row<P>(c.point_impulse, b, g.ra, g.rb, g.d, soft);
   store_constraint_bodies(c, states, b);
 }

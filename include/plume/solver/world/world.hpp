@@ -193,7 +193,8 @@ struct JointDef {
   BodyId body_a, body_b;
   JointFrame frame_a, frame_b; ///< each in its body's shape frame
   JointType type = FixedJoint{};
-  /// false: the two bodies do not collide with each other while the joint exists.
+  /// false: the two bodies do not collide with each other while the joint exists and is
+  /// not broken.
   bool collide_connected = false;
   /// The joint breaks (stops acting, reported in StepEvents::joint_broken) in the first step
   /// whose reaction force (N) or torque (N m) exceeds these.
@@ -566,9 +567,15 @@ private:
     bool dynamic_a = false, dynamic_b = false; ///< as the colouring saw them
     bool alive = true;
     bool broken = false;
+    bool filters = false; ///< its pair is in no_collide_pairs_ (!collide_connected, not broken)
     std::uint32_t generation = 0;
   };
   Joint const& joint(JointId id) const;
+  /// Takes the joint's pair out of no_collide_pairs_ (when it is there).
+  void stop_filtering(Joint& j);
+  /// Zeroes the warm-start impulses of the joints of these bodies (sorted or not): a body
+  /// that froze or changed type starts its joints afresh.
+  void reset_joint_impulses(std::span<std::uint32_t const> bodies);
   /// The pair keys of live joints whose bodies do not collide, sorted (repeats allowed).
   std::vector<std::uint64_t> no_collide_pairs_;
   bool jointed_no_collide(std::uint32_t a, std::uint32_t b) const;
