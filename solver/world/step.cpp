@@ -171,9 +171,9 @@ void World::prepare_bodies() {
   }
 }
 
-ContactBody World::contact_body(std::uint32_t i) const {
+SolverBody World::contact_body(std::uint32_t i) const {
   Body const& b = bodies_[i];
-  ContactBody c;
+  SolverBody c;
   if (!b.moves()) {
     c.state = std::int32_t(bodies_.size()); // the identity record
     c.center = b.center;
@@ -204,7 +204,7 @@ void World::pack_contacts(GConstraintBlocks<GContactConstraint, T>& blocks, floa
       cache_.colors(),
       [&]<class U>(GContactConstraint<U>& block, std::size_t lane, std::uint32_t ci) {
         Contact const& c = contacts[ci];
-        ContactBody const a = contact_body(c.body_a), b = contact_body(c.body_b);
+        SolverBody const a = contact_body(c.body_a), b = contact_body(c.body_b);
         bool const against_static = a.write < 0 || b.write < 0;
         prepare_contact_lane(block, lane, a, b, c.manifold, c.tangent, c.impulses, c.friction,
                              c.restitution, against_static ? static_soft : soft);

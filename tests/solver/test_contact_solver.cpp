@@ -198,7 +198,7 @@ TEMPLATE_LIST_TEST_CASE("contact kernels: every lane equals the float kernel bit
   // 2W dynamic bodies with random states, one static (identity) record at the end.
   std::size_t const n = 2 * W;
   std::vector<BodyState> states(n + 1);
-  std::vector<ContactBody> bodies(n);
+  std::vector<SolverBody> bodies(n);
   for (std::size_t i = 0; i < n; ++i) {
     states[i].linear_velocity = random_vec(rng, 2.0f);
     states[i].angular_velocity = random_vec(rng, 3.0f);
@@ -211,7 +211,7 @@ TEMPLATE_LIST_TEST_CASE("contact kernels: every lane equals the float kernel bit
     bodies[i].linear_velocity = states[i].linear_velocity;
     bodies[i].angular_velocity = states[i].angular_velocity;
   }
-  ContactBody ground;
+  SolverBody ground;
   ground.state = std::int32_t(n);
   Softness const soft = Softness::make(30.0f, 10.0f, 1.0f / 240.0f);
   Softness const hard = Softness::make(60.0f, 10.0f, 1.0f / 240.0f);
@@ -220,8 +220,8 @@ TEMPLATE_LIST_TEST_CASE("contact kernels: every lane equals the float kernel bit
   GContactConstraint<T> wide;
   std::vector<GContactConstraint<float>> narrow(W);
   for (std::size_t i = 0; i < W; ++i) {
-    ContactBody const& a = bodies[2 * i];
-    ContactBody const& b = i % 2 == 0 ? bodies[2 * i + 1] : ground;
+    SolverBody const& a = bodies[2 * i];
+    SolverBody const& b = i % 2 == 0 ? bodies[2 * i + 1] : ground;
     Manifold const m = random_manifold(rng, a.center, int(i % 5));
     ContactImpulses warm;
     for (float& x : warm.normal)
@@ -274,7 +274,7 @@ TEST_CASE("contact kernels: one point against closed forms", "[solver]") {
   float const h = 0.01f;
   std::vector<BodyState> states(2);
   states[0].linear_velocity = {0.0f, -10.0f, 0.0f};
-  ContactBody ground, body;
+  SolverBody ground, body;
   ground.state = 1;
   body.state = body.write = 0;
   body.inv_mass = 1.0f;

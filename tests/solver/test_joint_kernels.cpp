@@ -3,7 +3,16 @@
 #include "../common/harness.hpp"
 #include "../common/types.hpp"
 
+// Each type's kernel, the rows, the storage and the motors, included by name.
+#include <plume/solver/joints/distance_joint.hpp>
+#include <plume/solver/joints/fixed_joint.hpp>
 #include <plume/solver/joints/joint.hpp>
+#include <plume/solver/joints/joint_constraint.hpp>
+#include <plume/solver/joints/joint_rows.hpp>
+#include <plume/solver/joints/motor.hpp>
+#include <plume/solver/joints/prismatic_joint.hpp>
+#include <plume/solver/joints/revolute_joint.hpp>
+#include <plume/solver/joints/spherical_joint.hpp>
 
 #include <catch2/catch.hpp>
 

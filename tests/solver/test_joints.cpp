@@ -44,6 +44,15 @@ JointDef joint_at(World const& w, BodyId a, BodyId b, Vec3 anchor, Vec3 axis, Jo
           .type = type};
 }
 
+/// Two unit cubes overlapping by 0.2 m along x, and a fixed joint between them.
+JointDef overlapping_boxes(World& w) {
+  BodyId const a = w.create_body({.shape = Cuboid{Vec3::splat(0.5f)}}).id;
+  BodyId const b = w.create_body({.pose = Iso3::from_translation({0.8f, 0.0f, 0.0f}),
+                                  .shape = Cuboid{Vec3::splat(0.5f)}})
+                       .id;
+  return joint_at(w, a, b, {0.4f, 0.0f, 0.0f}, Vec3::X, FixedJoint{});
+}
+
 /// The times of the upward zero crossings of x(t) sampled every dt (linear interpolation).
 struct Crossings {
   std::vector<double> times;
@@ -101,9 +110,9 @@ TEST_CASE("joints: a pendulum on a revolute or spherical joint keeps its closed-
     }
     REQUIRE(c.times.size() >= 9);
     INFO("kind " << kind << " period " << c.period() << " closed form " << closed);
-    CHECK(std::abs(c.period() / closed - 1.0) < 0.005);
-    // No energy gained or lost to speak of in 20 s: the amplitude within 1%.
-    CHECK(max_x / (L * std::sin(theta0)) == Approx(1.0).epsilon(0.01));
+    CHECK(std::abs(c.period() / closed - 1.0) < 0.001); // the issue asks 0.5%; measured 5e-6
+    // No energy gained or lost to speak of in 20 s: the amplitude within 0.1%.
+    CHECK(max_x / (L * std::sin(theta0)) == Approx(1.0).epsilon(0.001));
   }
 }
 
@@ -117,7 +126,7 @@ TEST_CASE("joints: a motor at its max torque accelerates a wheel at T / I, then 
   for (int i = 0; i < 60; ++i)
     s.w.step(dt);
   INFO("alpha " << alpha << " w(1 s) " << s.w.joint_state(s.hinge).angular_speed);
-  CHECK(s.w.joint_state(s.hinge).angular_speed == Approx(alpha).epsilon(0.01));
+  CHECK(s.w.joint_state(s.hinge).angular_speed == Approx(alpha).epsilon(1e-3));
   // While accelerating, the joint's torque on the wheel is the motor's, along the axis.
   Vec3 const accelerating = s.w.joint_state(s.hinge).reaction_torque;
   CHECK(accelerating.z == Approx(torque).epsilon(1e-3));
@@ -146,7 +155,7 @@ TEST_CASE("joints: the spring-damper motor's step responses follow the closed fo
     }
     INFO("peak " << peak << " largest error " << worst);
     CHECK(peak <= 1.0f + 1e-3f); // the discrete map: 0.03% at 5 Hz and h = 1/240 s
-    CHECK(worst < 0.03f);
+    CHECK(worst < 0.015f);       // the discrete map against the continuous closed form
     // Settled within 1% by the closed form's 1% time (w t = 6.64), with margin.
     CHECK(std::abs(s.w.joint_state(s.hinge).angle - 1.0f) < 0.01f);
   }
@@ -258,7 +267,7 @@ TEST_CASE("joints: a prismatic motor lifts a mass when its max force beats the w
     INFO("F / mg " << ratio << " translation " << s);
     // Net force (ratio - 1) m g: s = (ratio - 1) g t^2 / 2 (the target, 5 m/s, is not reached).
     float const expected = (ratio - 1.0f) * 9.81f * 0.5f * 4.0f;
-    CHECK(s == Approx(expected).epsilon(0.02));
+    CHECK(s == Approx(expected).epsilon(0.005));
     CHECK((ratio > 1.0f ? s > 0.0f : s < 0.0f));
     // The box stays on the slider's line and unturned.
     CHECK(std::abs(w.pose(box).translation.x) < 1e-4f);
@@ -462,7 +471,7 @@ TEST_CASE("joints: a car on four motorised hinges drives up a 10 degree ramp at 
   Vec3 const p1 = w.pose(car.bodies[0]).translation;
   float const v = (p1 - p0).dot(uphill); // over the fifth second
   INFO("speed up the ramp " << v << " m/s, target " << speed);
-  CHECK(v == Approx(speed).epsilon(0.03));
+  CHECK(v == Approx(speed).epsilon(0.02));
   CHECK(std::abs((p1 - p0).z) < 0.02f); // straight
   CHECK(w.pose(car.bodies[0]).rotation.angle_between(heading) < 2.0f * deg);
 }
@@ -541,8 +550,8 @@ TEST_CASE("joints: between two free bodies, every joint type conserves momentum"
     INFO(to_string(JointKind(type.index()))
          << ": linear momentum off by " << worst_p << " of " << p0.length() << ", angular by "
          << worst_l << " of " << l0.length());
-    CHECK(worst_p < 1e-3f * w.mass(a));
-    CHECK(worst_l < 2e-3f * l0.length());
+    CHECK(worst_p < 2e-5f * w.mass(a)); // float sums of 125 kg bodies' momenta
+    CHECK(worst_l < 2e-4f * l0.length());
     // The joint acted (the bodies no longer move as they were set to).
     CHECK((w.joint_state(j).reaction_force.length() > 1.0f ||
            w.joint_state(j).reaction_torque.length() > 1.0f));
@@ -611,11 +620,7 @@ TEST_CASE("joints: reactions, breaking, and bodies that do not collide", "[joint
   SECTION("joined bodies do not collide unless collide_connected") {
     for (bool collide : {false, true}) {
       World w(no_gravity());
-      BodyId const a = w.create_body({.shape = Cuboid{Vec3::splat(0.5f)}}).id;
-      BodyId const b = w.create_body({.pose = Iso3::from_translation({0.8f, 0.0f, 0.0f}),
-                                      .shape = Cuboid{Vec3::splat(0.5f)}})
-                           .id;
-      JointDef def = joint_at(w, a, b, {0.4f, 0.0f, 0.0f}, Vec3::X, FixedJoint{});
+      JointDef def = overlapping_boxes(w);
       def.collide_connected = collide;
       REQUIRE(w.create_joint(def));
       w.step(1.0f / 60.0f);
@@ -635,6 +640,13 @@ TEST_CASE("joints: reactions, breaking, and bodies that do not collide", "[joint
     CHECK(w.destroy_joint(chain.joints[1]) == JointError::bad_joint);
     CHECK(w.set_motor(chain.joints[2], Motor{}) == JointError::bad_joint);
     CHECK_THROWS_AS(w.joint_state(chain.joints[1]), std::out_of_range);
+    CHECK_THROWS_AS(w.joint_def(chain.joints[1]), std::out_of_range);
+    CHECK_THROWS_AS(w.body_joints(chain.bodies[2]), std::out_of_range);
+    CHECK_THROWS_AS(w.joint_frame(chain.bodies[2], {}, Vec3::X), std::out_of_range);
+    // A frame from non-finite world data is refused where it is used.
+    JointDef from_nan = joint_at(w, chain.bodies[0], chain.bodies[1], {}, Vec3::X, FixedJoint{});
+    from_nan.frame_b = w.joint_frame(chain.bodies[1], Vec3::splat(std::nanf("")), Vec3::X);
+    CHECK(w.create_joint(from_nan).error == JointError::bad_axis);
     // The slot is reused with a new generation: the old id still names nothing.
     JointId const again =
         w.create_joint(joint_at(w, chain.bodies[0], chain.bodies[1], {}, Vec3::X, FixedJoint{})).id;
@@ -836,11 +848,8 @@ TEST_CASE("joints: review cases: big targets, extreme axes, frozen bodies, broke
   }
   SECTION("a broken joint's bodies collide again") {
     World w(no_gravity());
-    BodyId const a = w.create_body({.shape = Cuboid{Vec3::splat(0.5f)}}).id;
-    BodyId const b = w.create_body({.pose = Iso3::from_translation({0.8f, 0.0f, 0.0f}),
-                                    .shape = Cuboid{Vec3::splat(0.5f)}})
-                         .id;
-    JointDef def = joint_at(w, a, b, {0.4f, 0.0f, 0.0f}, Vec3::X, FixedJoint{});
+    JointDef def = overlapping_boxes(w);
+    BodyId const b = def.body_b;
     def.break_force = 10.0f;
     JointId const j = w.create_joint(def).id;
     w.step(1.0f / 60.0f);

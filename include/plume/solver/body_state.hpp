@@ -12,11 +12,13 @@
 // lanes are never written). For T = float both are plain copies.
 #pragma once
 
+#include <plume/math/mat3.hpp>
 #include <plume/math/quat.hpp>
 #include <plume/math/sym_mat3.hpp>
 #include <plume/math/vec3.hpp>
 #include <plume/numerics.hpp>
 #include <plume/numerics/transpose.hpp>
+#include <plume/solver/lane_storage.hpp>
 
 #include <array>
 #include <cstddef> // offsetof
@@ -80,6 +82,42 @@ PLUME_INLINE void scatter_velocities(BodyState* states, std::int32_t const* writ
                   b.angular_velocity.x, b.angular_velocity.y, b.angular_velocity.z, pad};
   store_transposed<T, 8>(c, rows);
 }
+
+/// One body of a constraint as the prepare functions need it (prepare_contact_lane,
+/// prepare_joint_lane): where its state is, whether it is written back, its inverse mass and
+/// world inverse inertia, its centre of mass and velocities, all in world axes, SI units.
+struct SolverBody {
+  std::int32_t state = 0;  ///< BodyState index (the shared identity record for static bodies)
+  std::int32_t write = -1; ///< BodyState index to write back, or -1 (not dynamic)
+  float inv_mass = 0.0f;
+  Mat3 inv_inertia = Mat3::ZERO; ///< world
+  Vec3 center{};                 ///< world centre of mass
+  Vec3 linear_velocity{};
+  Vec3 angular_velocity{};
+};
+
+/// The two bodies' fields of W constraints (contacts, joints derive from it), written a lane
+/// at a time by set_bodies() and read by load_constraint_bodies() / store_constraint_bodies().
+template <Real T>
+struct GConstraintBodyLanes {
+  static constexpr std::size_t body_lanes = lanes_v<T>;
+  std::array<std::int32_t, body_lanes> state_a{}, state_b{}; ///< BodyState indices
+  std::array<std::int32_t, body_lanes> write_a{}, write_b{}; ///< written back when >= 0
+  GLaneArray<T> inv_mass_a, inv_mass_b;
+  GLaneSymMat3<T> inv_inertia_a, inv_inertia_b; ///< world, at prepare
+
+  /// Lane `lane` gets bodies a and b.
+  void set_bodies(std::size_t lane, SolverBody const& a, SolverBody const& b) noexcept {
+    state_a[lane] = a.state;
+    state_b[lane] = b.state;
+    write_a[lane] = a.write;
+    write_b[lane] = b.write;
+    inv_mass_a[lane] = a.inv_mass;
+    inv_mass_b[lane] = b.inv_mass;
+    inv_inertia_a.set_lane(lane, a.inv_inertia);
+    inv_inertia_b.set_lane(lane, b.inv_inertia);
+  }
+};
 
 /// The two bodies of W constraints as the solver kernels (contacts, joints) work on them:
 /// their states gathered, inverse masses and world inverse inertias, and the impulse

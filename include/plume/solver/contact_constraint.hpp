@@ -64,14 +64,10 @@ struct GContactConstraintPoint {
 };
 
 template <Real T>
-struct GContactConstraint {
+struct GContactConstraint : GConstraintBodyLanes<T> {
   using element_type = T;
   static constexpr std::size_t lanes = lanes_v<T>;
-  std::array<std::int32_t, lanes> state_a{}, state_b{}; ///< BodyState indices
-  std::array<std::int32_t, lanes> write_a{}, write_b{}; ///< written back when >= 0 (dynamic)
   GLaneVec3<T> normal, tangent1, tangent2;
-  GLaneArray<T> inv_mass_a, inv_mass_b;
-  GLaneSymMat3<T> inv_inertia_a, inv_inertia_b; ///< world, at prepare
   GLaneArray<T> friction, restitution;
   GLaneArray<T> bias_rate, mass_scale, impulse_scale; ///< softness (stiffer against static)
   std::array<GContactConstraintPoint<T>, 4> points;
@@ -80,17 +76,6 @@ struct GContactConstraint {
   GLaneArray<T> tangent_mass1, tangent_mass2, twist_mass;
   GLaneArray<T> twist_radius; ///< mean distance of the points from the centre (m)
   GLaneArray<T> tangent_impulse1, tangent_impulse2, twist_impulse; ///< accumulated (N s, N m s)
-};
-
-/// One side of a contact as prepare_contact_lane() needs it.
-struct ContactBody {
-  std::int32_t state = 0;  ///< BodyState index (the shared identity record for static bodies)
-  std::int32_t write = -1; ///< BodyState index to write back, or -1 (not dynamic)
-  float inv_mass = 0.0f;
-  Mat3 inv_inertia = Mat3::ZERO; ///< world
-  Vec3 center{};                 ///< world centre of mass
-  Vec3 linear_velocity{};
-  Vec3 angular_velocity{};
 };
 
 /// The impulses of one manifold, kept from step to step for warm starting: per point along
@@ -114,24 +99,17 @@ inline Vec3 contact_tangent(Vec3 const& n, Vec3 const& previous) noexcept {
 /// the first friction axis `tangent` (unit, orthogonal to the normal: contact_tangent()) and
 /// the previous step's impulses (zeros for a new manifold or new points).
 template <Real T>
-void prepare_contact_lane(GContactConstraint<T>& c, std::size_t lane, ContactBody const& a,
-                          ContactBody const& b, Manifold const& m, Vec3 const& tangent,
+void prepare_contact_lane(GContactConstraint<T>& c, std::size_t lane, SolverBody const& a,
+                          SolverBody const& b, Manifold const& m, Vec3 const& tangent,
                           ContactImpulses const& warm, float friction, float restitution,
                           Softness const& soft) noexcept {
   std::size_t const i = lane;
-  c.state_a[i] = a.state;
-  c.state_b[i] = b.state;
-  c.write_a[i] = a.write;
-  c.write_b[i] = b.write;
+  c.set_bodies(i, a, b);
   Vec3 const n = m.normal;
   std::array<Vec3, 2> const t = {tangent, n.cross(tangent)};
   c.normal.set_lane(i, n);
   c.tangent1.set_lane(i, t[0]);
   c.tangent2.set_lane(i, t[1]);
-  c.inv_mass_a[i] = a.inv_mass;
-  c.inv_mass_b[i] = b.inv_mass;
-  c.inv_inertia_a.set_lane(i, a.inv_inertia);
-  c.inv_inertia_b.set_lane(i, b.inv_inertia);
   c.friction[i] = friction;
   c.restitution[i] = restitution;
   c.bias_rate[i] = soft.bias_rate;
@@ -192,7 +170,7 @@ void prepare_contact_lane(GContactConstraint<T>& c, std::size_t lane, ContactBod
 template <Real T>
 void clear_contact_lane(GContactConstraint<T>& c, std::size_t lane,
                         std::int32_t identity_state) noexcept {
-  ContactBody none;
+  SolverBody none;
   none.state = identity_state;
   Manifold empty;
   empty.normal = Vec3::Z;

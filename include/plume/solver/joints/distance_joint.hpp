@@ -60,12 +60,11 @@ void distance_joint_pass(GJointConstraint<T>& c, BodyState* states, T inv_h) noe
   T const len = g.d.length();
   GVec3<T> const n = g.d.normalize_or(g.x_axis());
   GRowJacobian<T> const j = distance_row(n, g.ra, g.rb);
-  GRowJacobian<T> const neg{-j.linear, -j.angular_a, -j.angular_b};
   motor_row<P>(c.motor_impulse, b, j, len - c.motor_target_position.get(), zero<T>(),
                c.motor_max_impulse.get(), c.motor_terms());
   T const cap = c.limit_cap.get();
   limit_row<P>(c.lower_impulse, b, j, len - c.lower.get(), cap, soft, inv_h);
-  limit_row<P>(c.upper_impulse, b, neg, c.upper.get() - len, cap, soft, inv_h);
+  limit_row<P>(c.upper_impulse, b, negated(j), c.upper.get() - len, cap, soft, inv_h);
   store_constraint_bodies(c, states, b);
 }
 

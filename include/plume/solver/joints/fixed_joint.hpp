@@ -21,9 +21,9 @@ void fixed_joint_pass(GJointConstraint<T>& c, BodyState* states, T inv_h) noexce
   auto const g = joint_geometry(c, b);
   auto const soft = c.softness();
   GVec3<T> const e = rotation_error(g.qa, g.qb);
-  angular_lock_row<P>(c.angular_impulse[0], b, g.x_axis(), e.x, soft, inv_h);
-  angular_lock_row<P>(c.angular_impulse[1], b, g.y_axis(), e.y, soft, inv_h);
-  angular_lock_row<P>(c.angular_impulse[2], b, g.z_axis(), e.z, soft, inv_h);
+  lock_row<P>(c.angular_impulse[0], b, angular_row(g.x_axis()), e.x, soft, inv_h);
+  lock_row<P>(c.angular_impulse[1], b, angular_row(g.y_axis()), e.y, soft, inv_h);
+  lock_row<P>(c.angular_impulse[2], b, angular_row(g.z_axis()), e.z, soft, inv_h);
   point_row<P>(c.point_impulse, b, g.ra, g.rb, g.d, soft);
   store_constraint_bodies(c, states, b);
 }

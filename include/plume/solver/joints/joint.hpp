@@ -42,6 +42,7 @@ enum class JointError : std::uint8_t {
   bad_value,  ///< a NaN or negative break threshold
   bad_joint,  ///< the id names no live joint, or the joint type has no motor
 };
+/// The error's name and what it means; "unknown" for a value outside the enum.
 std::string_view to_string(JointError e) noexcept;
 
 /// A joint: its slot and the slot's generation (as BodyId).

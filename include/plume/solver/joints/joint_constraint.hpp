@@ -42,6 +42,7 @@ namespace plume {
 
 enum class JointKind : std::uint8_t { fixed, revolute, prismatic, spherical, distance };
 inline constexpr int joint_kind_count = 5;
+/// The kind's name ("fixed", "revolute", ...); "unknown" for a value outside the enum.
 std::string_view to_string(JointKind k) noexcept;
 
 /// A joint's frame on one body, in the body's shape frame (the frame of World::pose()).
@@ -98,16 +99,12 @@ struct JointImpulses {
 };
 
 template <Real T>
-struct GJointConstraint {
+struct GJointConstraint : GConstraintBodyLanes<T> {
   using element_type = T;
   static constexpr std::size_t lanes = lanes_v<T>;
-  std::array<std::int32_t, lanes> state_a{}, state_b{}; ///< BodyState indices
-  std::array<std::int32_t, lanes> write_a{}, write_b{}; ///< written back when >= 0 (dynamic)
-  GLaneArray<T> inv_mass_a, inv_mass_b;
-  GLaneSymMat3<T> inv_inertia_a, inv_inertia_b; ///< world, at prepare
-  GLaneVec3<T> anchor_a, anchor_b;              ///< centre of mass -> anchor, world, at prepare
-  GLaneVec3<T> base_delta;                      ///< anchor B - anchor A at prepare (world)
-  GLaneQuat<T> frame_a, frame_b;                ///< the frames' rotations at prepare (world)
+  GLaneVec3<T> anchor_a, anchor_b; ///< centre of mass -> anchor, world, at prepare
+  GLaneVec3<T> base_delta;         ///< anchor B - anchor A at prepare (world)
+  GLaneQuat<T> frame_a, frame_b;   ///< the frames' rotations at prepare (world)
   GLaneArray<T> bias_rate, mass_scale, impulse_scale; ///< the joint's softness
   GLaneArray<T> lower, upper, limit_cap;              ///< limit_cap: 0 off, max float on
   GLaneArray<T> cone_angle, cone_cap;
@@ -127,10 +124,10 @@ struct GJointConstraint {
   }
 };
 
-/// A joint's two bodies as prepare_joint_lane() needs them: the solver's view (ContactBody:
+/// A joint's two bodies as prepare_joint_lane() needs them: the solver's view (SolverBody:
 /// state index, write index, mass, world inverse inertia, centre of mass) and the pose.
 struct JointBody {
-  ContactBody solver;
+  SolverBody solver;
   Iso3 pose{};
 };
 
@@ -143,16 +140,9 @@ void prepare_joint_lane(GJointConstraint<T>& c, std::size_t lane, JointBody cons
                         Vec3 const& anchor_b, Quat const& basis_b, JointLaneParams const& p,
                         JointImpulses const& warm, Softness const& soft, float h) noexcept {
   std::size_t const i = lane;
-  ContactBody const& sa = a.solver;
-  ContactBody const& sb = b.solver;
-  c.state_a[i] = sa.state;
-  c.state_b[i] = sb.state;
-  c.write_a[i] = sa.write;
-  c.write_b[i] = sb.write;
-  c.inv_mass_a[i] = sa.inv_mass;
-  c.inv_mass_b[i] = sb.inv_mass;
-  c.inv_inertia_a.set_lane(i, sa.inv_inertia);
-  c.inv_inertia_b.set_lane(i, sb.inv_inertia);
+  SolverBody const& sa = a.solver;
+  SolverBody const& sb = b.solver;
+  c.set_bodies(i, sa, sb);
   Vec3 const pa = a.pose.transform_point(anchor_a), pb = b.pose.transform_point(anchor_b);
   Vec3 const ra = pa - sa.center, rb = pb - sb.center;
   c.anchor_a.set_lane(i, ra);

@@ -72,6 +72,28 @@ PLUME_INLINE GRowJacobian<T> distance_row(GVec3<T> const& n, GVec3<T> const& ra,
   return {n, ra.cross(n), rb.cross(n)};
 }
 
+/// An angular row along u (n = 0, j_a = j_b = u): its own type, so that the rows below skip
+/// the linear terms' arithmetic for it.
+template <Real T>
+struct GAngularRow {
+  GVec3<T> axis;
+};
+
+template <Real T>
+PLUME_INLINE GAngularRow<T> angular_row(GVec3<T> const& u) noexcept {
+  return {u};
+}
+
+/// The row with the opposite sign (the upper side of a limit).
+template <Real T>
+PLUME_INLINE GRowJacobian<T> negated(GRowJacobian<T> const& j) noexcept {
+  return {-j.linear, -j.angular_a, -j.angular_b};
+}
+template <Real T>
+PLUME_INLINE GAngularRow<T> negated(GAngularRow<T> const& j) noexcept {
+  return {-j.axis};
+}
+
 namespace detail {
 
 template <Real T>
@@ -93,15 +115,20 @@ PLUME_INLINE void row_apply(GConstraintBodies<T>& b, GRowJacobian<T> const& j, T
   b.b.linear_velocity = b.b.linear_velocity + j.linear * (b.mb * l);
   b.b.angular_velocity = b.b.angular_velocity + b.ib * (j.angular_b * l);
 }
-// Angular rows (n = 0, j_a = j_b = u): the same arithmetic without the linear terms.
+// Angular rows: the same arithmetic without the linear terms.
 template <Real T>
-PLUME_INLINE T angular_speed(GConstraintBodies<T> const& b, GVec3<T> const& u) noexcept {
-  return u.dot(b.b.angular_velocity - b.a.angular_velocity);
+PLUME_INLINE T row_speed(GConstraintBodies<T> const& b, GAngularRow<T> const& j) noexcept {
+  return j.axis.dot(b.b.angular_velocity - b.a.angular_velocity);
 }
 template <Real T>
-PLUME_INLINE T angular_mass(GConstraintBodies<T> const& b, GVec3<T> const& u) noexcept {
+PLUME_INLINE T row_mass(GConstraintBodies<T> const& b, GAngularRow<T> const& j) noexcept {
+  GVec3<T> const& u = j.axis;
   T const k = u.dot(b.ia * u) + u.dot(b.ib * u);
   return plume::select(k > zero<T>(), one<T>() / k, zero<T>());
+}
+template <Real T>
+PLUME_INLINE void row_apply(GConstraintBodies<T>& b, GAngularRow<T> const& j, T l) noexcept {
+  b.apply_angular(j.axis * l);
 }
 
 /// Bias, mass scale and impulse scale of a row with error c in pass P: locks and violated
@@ -129,11 +156,10 @@ PLUME_INLINE GRowSoftness<T> row_terms(T c, GRowSoftness<T> const& soft, T inv_h
 
 } // namespace detail
 
-/// A 1-D lock row (C = 0) with error c along Jacobian j.
-template <JointPass P, Real T>
-PLUME_INLINE void lock_row(GLaneArray<T>& impulse, GConstraintBodies<T>& b,
-                           GRowJacobian<T> const& j, T c, GRowSoftness<T> const& soft,
-                           T inv_h) noexcept {
+/// A 1-D lock row (C = 0) with error c along row j (a GRowJacobian or a GAngularRow).
+template <JointPass P, Real T, class Row>
+PLUME_INLINE void lock_row(GLaneArray<T>& impulse, GConstraintBodies<T>& b, Row const& j, T c,
+                           GRowSoftness<T> const& soft, T inv_h) noexcept {
   T const old = impulse.get();
   if constexpr (P == JointPass::warm_start) {
     detail::row_apply(b, j, old);
@@ -147,30 +173,11 @@ PLUME_INLINE void lock_row(GLaneArray<T>& impulse, GConstraintBodies<T>& b,
   }
 }
 
-/// An angular lock row along unit u with error c (rad).
-template <JointPass P, Real T>
-PLUME_INLINE void angular_lock_row(GLaneArray<T>& impulse, GConstraintBodies<T>& b,
-                                   GVec3<T> const& u, T c, GRowSoftness<T> const& soft,
-                                   T inv_h) noexcept {
-  T const old = impulse.get();
-  if constexpr (P == JointPass::warm_start) {
-    b.apply_angular(u * old);
-  } else {
-    auto const t = detail::row_terms<P, false>(c, soft, inv_h);
-    T const m = detail::angular_mass(b, u);
-    T const next = old - m * t.mass_scale * (detail::angular_speed(b, u) + t.bias_rate) -
-                   t.impulse_scale * old;
-    impulse.set(next);
-    b.apply_angular(u * (next - old));
-  }
-}
-
 /// A one-sided limit row: c >= 0 is allowed (c the distance to the limit along j), the
 /// impulse is clamped to [0, cap] (cap 0: the limit is off).
-template <JointPass P, Real T>
-PLUME_INLINE void limit_row(GLaneArray<T>& impulse, GConstraintBodies<T>& b,
-                            GRowJacobian<T> const& j, T c, T cap, GRowSoftness<T> const& soft,
-                            T inv_h) noexcept {
+template <JointPass P, Real T, class Row>
+PLUME_INLINE void limit_row(GLaneArray<T>& impulse, GConstraintBodies<T>& b, Row const& j, T c,
+                            T cap, GRowSoftness<T> const& soft, T inv_h) noexcept {
   T const old = impulse.get();
   if constexpr (P == JointPass::warm_start) {
     detail::row_apply(b, j, old);
@@ -185,33 +192,13 @@ PLUME_INLINE void limit_row(GLaneArray<T>& impulse, GConstraintBodies<T>& b,
   }
 }
 
-/// The angular form of limit_row, along unit u.
-template <JointPass P, Real T>
-PLUME_INLINE void angular_limit_row(GLaneArray<T>& impulse, GConstraintBodies<T>& b,
-                                    GVec3<T> const& u, T c, T cap, GRowSoftness<T> const& soft,
-                                    T inv_h) noexcept {
-  T const old = impulse.get();
-  if constexpr (P == JointPass::warm_start) {
-    b.apply_angular(u * old);
-  } else {
-    auto const t = detail::row_terms<P, true>(c, soft, inv_h);
-    T const m = detail::angular_mass(b, u);
-    T const next =
-        clamp_select(old - m * t.mass_scale * (detail::angular_speed(b, u) + t.bias_rate) -
-                         t.impulse_scale * old,
-                     zero<T>(), cap);
-    impulse.set(next);
-    b.apply_angular(u * (next - old));
-  }
-}
-
 /// A motor row: drives the coordinate toward its targets with the motor's coefficients
 /// (solver/joints/motor.hpp, MotorCoefficients); position_error = coordinate - target_position
 /// (wrapped for an angle); the impulse is clamped to [-max_impulse, max_impulse]. Not run in relax.
-template <JointPass P, Real T>
-PLUME_INLINE void motor_row(GLaneArray<T>& impulse, GConstraintBodies<T>& b,
-                            GRowJacobian<T> const& j, T position_error, T target_velocity,
-                            T max_impulse, GMotorTerms<T> const& motor) noexcept {
+template <JointPass P, Real T, class Row>
+PLUME_INLINE void motor_row(GLaneArray<T>& impulse, GConstraintBodies<T>& b, Row const& j,
+                            T position_error, T target_velocity, T max_impulse,
+                            GMotorTerms<T> const& motor) noexcept {
   T const old = impulse.get();
   if constexpr (P == JointPass::warm_start) {
     detail::row_apply(b, j, old);
@@ -224,26 +211,6 @@ PLUME_INLINE void motor_row(GLaneArray<T>& impulse, GConstraintBodies<T>& b,
                      -max_impulse, max_impulse);
     impulse.set(next);
     detail::row_apply(b, j, next - old);
-  }
-}
-
-/// The angular form of motor_row, along unit u.
-template <JointPass P, Real T>
-PLUME_INLINE void angular_motor_row(GLaneArray<T>& impulse, GConstraintBodies<T>& b,
-                                    GVec3<T> const& u, T position_error, T target_velocity,
-                                    T max_impulse, GMotorTerms<T> const& motor) noexcept {
-  T const old = impulse.get();
-  if constexpr (P == JointPass::warm_start) {
-    b.apply_angular(u * old);
-  } else if constexpr (P == JointPass::solve) {
-    T const m = detail::angular_mass(b, u);
-    T const v = detail::angular_speed(b, u) - target_velocity;
-    T const next =
-        clamp_select(old - m * (motor.mass_scale * v + motor.bias_scale * position_error) -
-                         motor.impulse_scale * old,
-                     -max_impulse, max_impulse);
-    impulse.set(next);
-    b.apply_angular(u * (next - old));
   }
 }
 
@@ -262,10 +229,9 @@ PLUME_INLINE GSymMat3<T> point_mass(GConstraintBodies<T> const& b, GVec3<T> cons
 }
 
 /// The point row: anchor B at anchor A (error d = anchor B - anchor A), solved as one 3x3
-/// block. Its mass matrix is rebuilt from the current anchors at every solve: a body of small
-/// inertia far from its anchor (a pendulum's bob) makes K ill-conditioned (1 : 1 + m L^2 / I),
-/// and a K from the step's start then feeds energy in (4% of a 1 m pendulum's amplitude in
-/// 20 s with a 5 cm bob; none with the current K).
+/// block whose mass matrix (point_mass) is rebuilt from the current anchors at every solve:
+/// it is ill-conditioned (1 : 1 + m L^2 / I) for a small body far from its anchor, and one
+/// from the step's start feeds energy in (docs/joints.md).
 template <JointPass P, Real T>
 PLUME_INLINE void point_row(GLaneVec3<T>& impulse, GConstraintBodies<T>& b, GVec3<T> const& ra,
                             GVec3<T> const& rb, GVec3<T> const& d,

@@ -13,15 +13,10 @@
 // The first two are mass-independent (a is an acceleration); force depends on the joint's
 // effective mass m (a = F / m). Each is a velocity row solved once per substep h with
 //     dv = h (k e + (d + theta h k) e_v) / (1 + h d + h^2 k),   theta = min(1, omega h / 2)
-// (omega = sqrt(k)). theta = 0 is Avian's update (symplectic in the spring, implicit in the
-// damping): no numerical damping, but its damping fades as omega h grows (a critically damped
-// 60 Hz motor at h = 1/240 s overshoots 22%, a 1 kHz one 93%: it oscillates). theta = 1 is the
-// implicit Euler step of the soft constraint (solver/softness.hpp): robust at any stiffness
-// but it adds omega h / 2 to the damping ratio (a 5 Hz, zeta 0.2 spring overshoots 0.43
-// instead of the textbook 0.53). theta = omega h / 2 adds (omega h)^2 / 4, which cancels the
-// leading error of Avian's form: at h = 1/240 s a 5 Hz zeta 0.2 spring overshoots 0.5268
-// (textbook 0.5266), a 10 Hz one 0.519; critically damped springs overshoot at most 2% (30
-// Hz), and from 2 / h rad/s up the update is implicit Euler's: no overshoot, any stiffness.
+// (omega = sqrt(k)): Avian's update (theta = 0: symplectic spring, implicit damping) with
+// (omega h)^2 / 4 of damping added, which cancels its leading error, becoming the implicit
+// Euler step of a soft constraint (theta = 1) from omega h = 2 on, so a stiff motor does not
+// ring. docs/joints.md compares the three on the closed-form step responses.
 // Velocity control: the velocity model, or acceleration / force with stiffness 0.
 #pragma once
 
@@ -39,6 +34,7 @@ enum class MotorModel : std::uint8_t {
   force,         ///< stiffness and damping in force units; depends on the effective mass
   velocity,      ///< rigid velocity control toward target_velocity (Box2D's motor)
 };
+/// The model's name ("spring_damper", ...); "unknown" for a value outside the enum.
 std::string_view to_string(MotorModel m) noexcept;
 
 struct Motor {

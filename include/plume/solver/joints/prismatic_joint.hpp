@@ -33,11 +33,6 @@ struct PrismaticJoint {
   }
 };
 
-template <Real T>
-PLUME_INLINE GRowJacobian<T> negated(GRowJacobian<T> const& j) noexcept {
-  return {-j.linear, -j.angular_a, -j.angular_b};
-}
-
 template <JointPass P, Real T>
 void prismatic_joint_pass(GJointConstraint<T>& c, BodyState* states, T inv_h) noexcept {
   auto b = load_constraint_bodies(c, states);
@@ -54,9 +49,9 @@ void prismatic_joint_pass(GJointConstraint<T>& c, BodyState* states, T inv_h) no
   lock_row<P>(c.linear_impulse[0], b, linear_row(y, g.ra, g.rb, g.d), g.d.dot(y), soft, inv_h);
   lock_row<P>(c.linear_impulse[1], b, linear_row(z, g.ra, g.rb, g.d), g.d.dot(z), soft, inv_h);
   GVec3<T> const e = rotation_error(g.qa, g.qb);
-  angular_lock_row<P>(c.angular_impulse[0], b, x, e.x, soft, inv_h);
-  angular_lock_row<P>(c.angular_impulse[1], b, y, e.y, soft, inv_h);
-  angular_lock_row<P>(c.angular_impulse[2], b, z, e.z, soft, inv_h);
+  lock_row<P>(c.angular_impulse[0], b, angular_row(x), e.x, soft, inv_h);
+  lock_row<P>(c.angular_impulse[1], b, angular_row(y), e.y, soft, inv_h);
+  lock_row<P>(c.angular_impulse[2], b, angular_row(z), e.z, soft, inv_h);
   store_constraint_bodies(c, states, b);
 }
 

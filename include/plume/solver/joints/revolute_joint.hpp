@@ -43,14 +43,15 @@ void revolute_joint_pass(GJointConstraint<T>& c, BodyState* states, T inv_h) noe
   auto const soft = c.softness();
   GSwingTwist<T> const st = swing_twist(g.qa, g.qb);
   GVec3<T> const x = g.x_axis();
-  angular_motor_row<P>(c.motor_impulse, b, x, wrap_angle(st.twist - c.motor_target_position.get()),
-                       c.motor_target_velocity.get(), c.motor_max_impulse.get(), c.motor_terms());
+  motor_row<P>(c.motor_impulse, b, angular_row(x),
+               wrap_angle(st.twist - c.motor_target_position.get()), c.motor_target_velocity.get(),
+               c.motor_max_impulse.get(), c.motor_terms());
   T const cap = c.limit_cap.get();
-  angular_limit_row<P>(c.lower_impulse, b, x, st.twist - c.lower.get(), cap, soft, inv_h);
-  angular_limit_row<P>(c.upper_impulse, b, -x, c.upper.get() - st.twist, cap, soft, inv_h);
+  limit_row<P>(c.lower_impulse, b, angular_row(x), st.twist - c.lower.get(), cap, soft, inv_h);
+  limit_row<P>(c.upper_impulse, b, angular_row(-x), c.upper.get() - st.twist, cap, soft, inv_h);
   T const two = T(2.0f);
-  angular_lock_row<P>(c.angular_impulse[1], b, g.y_axis(), two * st.swing_y, soft, inv_h);
-  angular_lock_row<P>(c.angular_impulse[2], b, g.z_axis(), two * st.swing_z, soft, inv_h);
+  lock_row<P>(c.angular_impulse[1], b, angular_row(g.y_axis()), two * st.swing_y, soft, inv_h);
+  lock_row<P>(c.angular_impulse[2], b, angular_row(g.z_axis()), two * st.swing_z, soft, inv_h);
   point_row<P>(c.point_impulse, b, g.ra, g.rb, g.d, soft);
   store_constraint_bodies(c, states, b);
 }

@@ -49,12 +49,12 @@ void spherical_joint_pass(GJointConstraint<T>& c, BodyState* states, T inv_h) no
   // there is no swing (the row is then far from its limit).
   GVec3<T> const swing_axis =
       g.qa.mul_vec3(GVec3<T>{zero<T>(), st.swing_y, st.swing_z}).normalize_or(g.y_axis());
-  angular_limit_row<P>(c.cone_impulse, b, -swing_axis, c.cone_angle.get() - st.swing_angle,
-                       c.cone_cap.get(), soft, inv_h);
+  limit_row<P>(c.cone_impulse, b, angular_row(-swing_axis), c.cone_angle.get() - st.swing_angle,
+               c.cone_cap.get(), soft, inv_h);
   GVec3<T> const u = twist_axis(g.qa, g.qb);
   T const cap = c.limit_cap.get();
-  angular_limit_row<P>(c.lower_impulse, b, u, st.twist - c.lower.get(), cap, soft, inv_h);
-  angular_limit_row<P>(c.upper_impulse, b, -u, c.upper.get() - st.twist, cap, soft, inv_h);
+  limit_row<P>(c.lower_impulse, b, angular_row(u), st.twist - c.lower.get(), cap, soft, inv_h);
+  limit_row<P>(c.upper_impulse, b, angular_row(-u), c.upper.get() - st.twist, cap, soft, inv_h);
   point_row<P>(c.point_impulse, b, g.ra, g.rb, g.d, soft);
   store_constraint_bodies(c, states, b);
 }

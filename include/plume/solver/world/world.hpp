@@ -491,13 +491,13 @@ public:
   JointError set_motor(JointId id, Motor const& motor);
   /// Changes only the motor's targets (as set_motor).
   JointError set_motor_targets(JointId id, float target_velocity, float target_position);
-  /// Joints of the body (any order), for a ragdoll's bookkeeping. std::out_of_range for a
-  /// stale body id.
+  /// Joints of the body, by joint index. std::out_of_range for a stale body id.
   std::vector<JointId> body_joints(BodyId id) const;
   /// A frame on `body` from world-space data: its anchor at world_anchor, its axis along
   /// world_axis, its normal along world_normal, all at the body's current pose (give two
   /// bodies frames from the same world data and the joint starts at rest: angle 0,
-  /// translation 0). std::out_of_range for a stale id.
+  /// translation 0). std::out_of_range for a stale id; non-finite input gives a frame that
+  /// create_joint refuses (bad_axis).
   JointFrame joint_frame(BodyId body, Vec3 const& world_anchor, Vec3 const& world_axis,
                          Vec3 const& world_normal = Vec3::Y) const;
 
@@ -626,7 +626,7 @@ private:
   template <class T>
   void store_impulses(GConstraintBlocks<GContactConstraint, T> const& blocks);
   void finalize_bodies();
-  ContactBody contact_body(std::uint32_t i) const;
+  SolverBody contact_body(std::uint32_t i) const;
 
   WorldConfig config_;
   std::vector<Body> bodies_;
