@@ -864,8 +864,9 @@ TEST_CASE("joints: review cases: big targets, extreme axes, frozen bodies, broke
   }
 }
 
-TEMPLATE_LIST_TEST_CASE("joints: the world with joints is bitwise the same at every width",
-                        "[joints][determinism]", test::f32_wide_types) {
+// Every wide width of the build against float (none in the scalar build).
+TEST_CASE("joints: the world with joints is bitwise the same at every width",
+          "[joints][determinism]") {
   auto const run = [&]<class T>(std::type_identity<T>) {
     World w;
     scenes::add_ground(w);
@@ -880,6 +881,7 @@ TEMPLATE_LIST_TEST_CASE("joints: the world with joints is bitwise the same at ev
     return w.state_hash();
   };
   std::uint64_t const scalar = run(std::type_identity<float>{});
-  CHECK(run(std::type_identity<TestType>{}) == scalar);
-  CHECK(run(std::type_identity<float>{}) == scalar);
+  for_each_type<test::f32_wide_types>(
+      [&]<class T>() { CHECK(run(std::type_identity<T>{}) == scalar); });
+  CHECK(run(std::type_identity<float>{}) == scalar); // the same build run twice
 }
