@@ -491,6 +491,26 @@ void atan2_suite() {
     }
     report("atan2", "tiny |y| (product underflow band)", w, true);
   }
+  {
+    // min/max near atan2's pivot edges (1/2.875 and 1/1.625, where the segment changes) and
+    // just above the powers of two 2^-k (k = 1..6), where atan(r) falls into the binade
+    // below r and the quotient's rounding counts twice; random scales, every quadrant.
+    worst<S> w;
+    std::mt19937_64 rng(55);
+    std::uniform_real_distribution<long double> u(-1, 1);
+    long double const centres[] = {1 / 2.875L, 1 / 1.625L, 0.5L, 0.25L, 0.125L, 0.0625L};
+    for (std::size_t i = 0; i < 30000 / slow; ++i) {
+      long double const c = centres[i % std::size(centres)];
+      long double const r =
+          c * (1 + 0.01L * u(rng)) + (i % std::size(centres) >= 2 ? 0.004L * c : 0);
+      int const e = int(rng() % 200) - 100;
+      S const d = in_binade<S>(e, rng);
+      S const n = static_cast<S>(d * r);
+      S const y = (rng() & 1) ? n : d, x = (y == n) ? d : n;
+      add2(w, mp, f, mpfr_atan2, none, (rng() & 2) ? y : -y, (rng() & 4) ? x : -x);
+    }
+    report("atan2", "min/max near the pivot edges and just above 2^-k", w, true);
+  }
 }
 
 template <class S>

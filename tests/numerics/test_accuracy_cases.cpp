@@ -65,3 +65,15 @@ TEST_CASE("atan2 of a tiny numerator over a moderate denominator", "[numerics][a
   atan2_case(-0x1.77p-138f, 0x1.c5f2e8p-13f);
   atan2_case(0x1.5p-1030, 0x1.3p-9);
 }
+
+TEST_CASE("atan2 of two subnormals near a pivot edge", "[numerics][accuracy]") {
+  // A first draft of the one-division atan2 chose its segment from n > 0.34375 d: for
+  // subnormal d the product rounds to a whole unit of 2^-149, the ratio 1/2 fell to the
+  // polynomial's segment far outside its range (312 ulp) and 7/19 just outside (2.04 ulp).
+  atan2_case(0x1p-149f, 0x1p-148f);
+  atan2_case(0x7p-149f, 0x13p-149f);
+  atan2_case(0x5p-149f, 0xep-149f);
+  atan2_case(0x1p-1074, 0x1p-1073);
+  atan2_case(0x7p-1074, 0x13p-1074);
+  atan2_case(-0x1p-149f, -0x3p-149f);
+}

@@ -4,8 +4,9 @@
 //
 // One code path over T. exp/exp2/expm1 reduce by ln 2 (Cody-Waite, two-part constant) and
 // scale by 2^n; log/log2/log1p split x into 2^e (1+f) and evaluate log(1+f) = 2 atanh(f/(2+f))
-// (fdlibm's scheme). pow evaluates y * log2|x| in double-word (hi + lo, ~2p bits) before
-// exp2, so it is accurate for large y too.
+// (fdlibm's scheme). pow evaluates y * log2|x| to about twice the type's precision before
+// exp2, so it is accurate for large y too: float pow in double (the lanes widened into two
+// double batches, one rounding back; within 0.54 ulp), double pow in double-word (hi + lo).
 // exp, exp2 and log have a fast path for the usual inputs - exp/exp2 whose result is a
 // normal number (2^n added to the exponent field), log of a positive normal x (split in
 // integer steps). Other lanes (overflow, subnormal results or inputs, 0, negatives, inf,
@@ -185,6 +186,76 @@ PLUME_INLINE T exp2_dw(T hi, T lo) noexcept {
   return res;
 }
 
+/// Float pow's core, in double (D is double or a double batch): 2^(y log2 a) for a float
+/// value a > 0 finite (subnormals included: they are normal doubles) and any float value y,
+/// t = y log2 a clamped to +-powf_t_limit (NaN stays NaN). log2 a to ~2^-37 relative
+/// (s = f / (2 + f) in double, s Q(s^2)), so t is within ~2^-30 wherever the float result
+/// is in range, and 2^t within ~2^-28.5: rounded once to float, within 0.53 ulp.
+template <Float D>
+PLUME_INLINE D powf_core(D a, D y) noexcept {
+  using Cf = math_constants<float>;
+  using Cd = math_constants<double>;
+  auto const [e, f] = split_log_normal(a);
+  D const s = f / (two<D>() + f);
+  D t = y * (e + s * detail::horner(s * s, Cf::powf_log2_poly));
+  t = clamp_range(t, splat<D>(-Cf::powf_t_limit), splat<D>(Cf::powf_t_limit));
+  D const rm = splat<D>(Cd::round_magic);
+  D const tt = t + rm;
+  D const n = tt - rm; // round(t)
+  D const r = t - n;
+  return scale_pow2_normal(one<D>() + r * detail::horner(r, Cf::powf_exp2_poly), tt);
+}
+
+/// pow's rules for a negative base and its overrides, applied to r = |x|^y: the sign for an
+/// odd integer y, NaN for a finite negative x and a non-integer y, and 1 for pow(-1, +-inf),
+/// pow(x, +-0) and pow(1, y), even for NaN.
+template <Float T>
+PLUME_INLINE T pow_signs(T x, T y, T r) noexcept {
+  T const ty = plume::trunc(y);
+  auto const y_int = ty == y; // true for +-inf and |y| >= 2^p too (even integers)
+  // Odd: y/2 (exact) is not an integer. That holds up to 2^p, beyond the 2^(p-1) from which
+  // every float is an integer, and is false for +-inf and every |y| >= 2^p.
+  T const hy = y * half<T>();
+  auto const y_odd = y_int & (plume::trunc(hy) != hy);
+  r = plume::select(plume::is_sign_negative(x) & y_odd, -r, r);
+  r = plume::select((x < zero<T>()) & plume::is_finite(x) & !y_int, nan<T>(), r);
+  r = plume::select((x == neg_one<T>()) & plume::is_infinite(y), one<T>(), r);
+  return plume::select((y == zero<T>()) | (x == one<T>()), one<T>(), r);
+}
+
+/// pow's special values, for r = 2^(y log2|x|) computed with |x| replaced by 1 where it is 0,
+/// inf or NaN (finite_pos false): there log2|x| = -inf or +inf, so |x|^y is inf or 0 by the
+/// sign of y log2|x| (y = 0: NaN, which pow_signs replaces by 1); NaN in, NaN out; then
+/// pow_signs.
+template <Float T>
+PLUME_INLINE T pow_specials(T x, T y, T ax, mask_t<T> finite_pos, T r) noexcept {
+  T const v = y * plume::select(ax == zero<T>(), neg_infinity<T>(), infinity<T>());
+  T const r_inf = plume::select(v > zero<T>(), infinity<T>(),
+                                plume::select(v < zero<T>(), zero<T>(), nan<T>()));
+  r = plume::select(finite_pos, r, r_inf);
+  r = plume::select(plume::is_nan(x) | plume::is_nan(y), x + y, r);
+  return pow_signs(x, y, r);
+}
+
+/// pow for float lanes: the core in double (two double batches per float batch), rounded
+/// once. Lanes with x <= 0, x inf or NaN, or y inf or NaN take pow_specials.
+template <Float T>
+PLUME_INLINE T pow_float(T x, T y) noexcept {
+  T const ax = plume::abs(x);
+  auto const finite_pos = (ax > zero<T>()) & (ax < infinity<T>());
+  T const a = plume::select(finite_pos, ax, one<T>());
+  T r;
+  if constexpr (is_batch_v<T>)
+    r = narrow(powf_core(widen_lo(a), widen_lo(y)), powf_core(widen_hi(a), widen_hi(y)));
+  else
+    r = static_cast<T>(powf_core(static_cast<double>(a), static_cast<double>(y)));
+  // x > 0 finite and y finite (the usual case): r is the result (y = 0 and x = 1 give 2^0).
+  auto const plain = (x > zero<T>()) & (x < infinity<T>()) & plume::is_finite(y);
+  if (!plume::all(plain)) [[unlikely]]
+    r = plume::select(plain, r, pow_specials(x, y, ax, finite_pos, r));
+  return r;
+}
+
 } // namespace detail
 
 template <Float T>
@@ -279,39 +350,31 @@ PLUME_INLINE T log1p(T x) noexcept {
 
 template <Float T>
 PLUME_INLINE T pow(T x, T y) noexcept {
-  using S = scalar_t<T>;
-  using C = detail::math_constants<S>;
-  T const ax = plume::abs(x);
-  auto const finite_pos = (ax > zero<T>()) & (ax < infinity<T>());
-  detail::dw<T> l = detail::log2_dw(plume::select(finite_pos, ax, one<T>()));
-  // log2 of 0 and inf as plain values (lo = 0).
-  l.hi = plume::select(finite_pos, l.hi, plume::select(ax == zero<T>(), neg_infinity<T>(), ax));
-  l.lo = plume::select(finite_pos, l.lo, zero<T>());
-  // t = y * log2|x| in double-word wherever the result can be in range, which is where
-  // |y log2|x|| < pow_dw_limit however large y is (x near 1: pow(1.00001, 1e7) needs the low
-  // word as much as pow(2, 100) does). Beyond, the result over/underflows and y * l.hi alone
-  // decides. The exact product cannot overflow there: |log2|x|| >= ~2^-p for x != 1, so
-  // |y| < pow_dw_limit 2^p (x = 1 is replaced below).
-  auto const tame = plume::abs(y * l.hi) < splat<T>(C::pow_dw_limit);
-  detail::dw<T> const yl =
-      detail::two_prod(plume::select(tame, y, zero<T>()), plume::select(tame, l.hi, zero<T>()));
-  T const t_hi = plume::select(tame, yl.hi, y * l.hi);
-  T const t_lo = plume::select(tame, yl.lo + y * l.lo, zero<T>());
-  detail::dw<T> const t = detail::fast_two_sum(t_hi, plume::select(tame, t_lo, zero<T>()));
-  T r = detail::exp2_dw(t.hi, plume::select(plume::is_finite(t.hi), t.lo, zero<T>()));
-  // Signs and NaNs from a negative base.
-  T const ty = plume::trunc(y);
-  auto const y_int = ty == y; // true for +-inf and |y| >= 2^p too (even integers)
-  // Odd: y/2 (exact) is not an integer. That holds up to 2^p, beyond the 2^(p-1) from which
-  // every float is an integer, and is false for +-inf and every |y| >= 2^p.
-  T const hy = y * half<T>();
-  auto const y_odd = y_int & (plume::trunc(hy) != hy);
-  r = plume::select(plume::is_sign_negative(x) & y_odd, -r, r);
-  r = plume::select((x < zero<T>()) & plume::is_finite(x) & !y_int, nan<T>(), r);
-  // Overrides that hold even for NaN.
-  r = plume::select((x == neg_one<T>()) & plume::is_infinite(y), one<T>(), r);
-  r = plume::select((y == zero<T>()) | (x == one<T>()), one<T>(), r);
-  return r;
+  if constexpr (std::is_same_v<scalar_t<T>, float>) {
+    return detail::pow_float(x, y);
+  } else {
+    using S = scalar_t<T>;
+    using C = detail::math_constants<S>;
+    T const ax = plume::abs(x);
+    auto const finite_pos = (ax > zero<T>()) & (ax < infinity<T>());
+    detail::dw<T> l = detail::log2_dw(plume::select(finite_pos, ax, one<T>()));
+    // log2 of 0 and inf as plain values (lo = 0).
+    l.hi = plume::select(finite_pos, l.hi, plume::select(ax == zero<T>(), neg_infinity<T>(), ax));
+    l.lo = plume::select(finite_pos, l.lo, zero<T>());
+    // t = y * log2|x| in double-word wherever the result can be in range, which is where
+    // |y log2|x|| < pow_dw_limit however large y is (x near 1: pow(1.00001, 1e7) needs the low
+    // word as much as pow(2, 100) does). Beyond, the result over/underflows and y * l.hi alone
+    // decides. The exact product cannot overflow there: |log2|x|| >= ~2^-p for x != 1, so
+    // |y| < pow_dw_limit 2^p (x = 1 is replaced below).
+    auto const tame = plume::abs(y * l.hi) < splat<T>(C::pow_dw_limit);
+    detail::dw<T> const yl =
+        detail::two_prod(plume::select(tame, y, zero<T>()), plume::select(tame, l.hi, zero<T>()));
+    T const t_hi = plume::select(tame, yl.hi, y * l.hi);
+    T const t_lo = plume::select(tame, yl.lo + y * l.lo, zero<T>());
+    detail::dw<T> const t = detail::fast_two_sum(t_hi, plume::select(tame, t_lo, zero<T>()));
+    T r = detail::exp2_dw(t.hi, plume::select(plume::is_finite(t.hi), t.lo, zero<T>()));
+    return detail::pow_signs(x, y, r);
+  }
 }
 
 } // namespace plume

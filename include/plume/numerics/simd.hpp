@@ -19,7 +19,10 @@
 //    `mask == false`): AVX2 compares the 256-bit integers in one instruction where xsimd's
 //    AVX kernel uses two SSE compares and a lane insert (docs/performance.md, "masks");
 //  - repairs xsimd 8.1's AVX-512 float negation, computed as `0 - x` (so -(+0) = +0); the
-//    overload flips the sign bit, as the SSE and AVX kernels do.
+//    overload flips the sign bit, as the SSE and AVX kernels do;
+//  - widens a float batch into two double batches of the same architecture (lanes 0..W/2-1
+//    and W/2..W-1, exactly) and narrows two back (each lane rounded once, to nearest), which
+//    xsimd 8.1 lacks: `widen_lo`, `widen_hi`, `narrow` (for float pow's double core).
 #pragma once
 
 #include <plume/config.hpp>
@@ -171,4 +174,53 @@ inline batch_bool<T, A> operator!=(batch<T, A> const& b, std::type_identity_t<T>
   return b.operator!=(batch<T, A>(s));
 }
 } // namespace xsimd
+#endif
+
+#if PLUME_HAS_BATCHES
+namespace plume::detail {
+/// Lanes 0..W/2-1 of a float batch as doubles (exact).
+template <class A>
+inline xsimd::batch<double, A> widen_lo(xsimd::batch<float, A> const& v) noexcept {
+  if constexpr (sizeof(v.data) == 16) return _mm_cvtps_pd(v);
+#if PLUME_HAS_AVX2
+  else if constexpr (sizeof(v.data) == 32)
+    return _mm256_cvtps_pd(_mm256_castps256_ps128(v));
+#endif
+#if PLUME_HAS_AVX512
+  else
+    return _mm512_cvtps_pd(_mm512_castps512_ps256(v));
+#endif
+}
+/// Lanes W/2..W-1 of a float batch as doubles (exact).
+template <class A>
+inline xsimd::batch<double, A> widen_hi(xsimd::batch<float, A> const& v) noexcept {
+  if constexpr (sizeof(v.data) == 16) return _mm_cvtps_pd(_mm_movehl_ps(v, v));
+#if PLUME_HAS_AVX2
+  else if constexpr (sizeof(v.data) == 32)
+    return _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1));
+#endif
+#if PLUME_HAS_AVX512
+  else
+    return _mm512_cvtps_pd(_mm256_castpd_ps(_mm512_extractf64x4_pd(_mm512_castps_pd(v), 1)));
+#endif
+}
+/// The float batch whose lanes are lo's then hi's, each rounded to nearest (overflow gives
+/// inf, tiny values round once to a subnormal or zero).
+template <class A>
+inline xsimd::batch<float, A> narrow(xsimd::batch<double, A> const& lo,
+                                     xsimd::batch<double, A> const& hi) noexcept {
+  if constexpr (sizeof(lo.data) == 16) return _mm_movelh_ps(_mm_cvtpd_ps(lo), _mm_cvtpd_ps(hi));
+#if PLUME_HAS_AVX2
+  else if constexpr (sizeof(lo.data) == 32)
+    return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm256_cvtpd_ps(lo)), _mm256_cvtpd_ps(hi),
+                                1);
+#endif
+#if PLUME_HAS_AVX512
+  else
+    return _mm512_castpd_ps(
+        _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_castps_pd(_mm512_cvtpd_ps(lo))),
+                           _mm256_castps_pd(_mm512_cvtpd_ps(hi)), 1));
+#endif
+}
+} // namespace plume::detail
 #endif

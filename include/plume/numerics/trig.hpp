@@ -24,6 +24,8 @@
 #include <plume/numerics/detail/poly.hpp>
 #include <plume/numerics/functions.hpp>
 
+#include <limits>
+
 PLUME_MASK_CODE_BEGIN
 
 namespace plume {
@@ -195,28 +197,60 @@ PLUME_INLINE T atan_nonneg(T a, T a_lo) noexcept {
   return v.hi + (v.lo + u.lo);
 }
 
-/// (num - r den) / den, the low word of r = num / den, for 0 <= num <= den, den finite and
-/// non-zero (garbage otherwise, which atan2 replaces). num and den are scaled by 2^k,
-/// k = bias + 1 - den's biased exponent (bias for a subnormal den), which puts den in
-/// [2^(2-p), 8): exact, as num 2^k <= den 2^k, unless num 2^k is subnormal - and the low
-/// word is 0 where num 2^k < atan2_num_min.
-template <Float T>
-PLUME_INLINE T atan2_quotient_lo(T num, T den, T r) noexcept {
+/// atan2(y, x) before y's sign, from ax = |x|, ay = |y| (x for its sign). With n = min and
+/// d = max of ax, ay and r = n / d, atan(r) is atan(c) + atan(q) about the pivot c = 0, 1/2
+/// or 1 nearest r, q = (r - c) / (1 + r c), so |q| <= 0.36 - one division, of numerator and
+/// denominator formed from n and d: q = n / d (r < 0.348), (2n - d) / (2d + n) (r < 0.615),
+/// (n - d) / (n + d). The numerators are exact (Sterbenz), so q is within ~2 roundings, and
+/// the result k pi/2 +- (atan(c) + atan(q)) is summed as hi + (lo +- atan(q)), hi exact. Safe:
+/// max(ax, ay) <= atan2_huge, neither NaN nor both infinite; otherwise (the general path) n
+/// and d are scaled by 1/4 in the pivot formulas and both-infinite gives q = 0, c = 1.
+template <bool Safe, Float T>
+PLUME_INLINE T atan2_abs(T ax, T ay, T x) noexcept {
   using S = scalar_t<T>;
   using C = math_constants<S>;
-  using B = bits_t<T>;
-  using U = scalar_t<B>;
-  // den's biased exponent field as a float value (den >= 0: no sign bit)
-  T const eb = from_bits<T>((plume::to_bits(den) >> C::mant_bits) |
-                            splat<B>(static_cast<U>(C::two_p_bits))) -
-               splat<T>(C::two_p);
-  T const k =
-      plume::select(eb < one<T>(), splat<T>(S(C::exp_bias)), splat<T>(S(C::exp_bias + 1)) - eb);
-  T const scale = pow2_int(k);
-  T const n2 = num * scale, d2 = den * scale;
-  dw<T> const pr = two_prod(r, d2);
-  T const lo = ((n2 - pr.hi) - pr.lo) / d2;
-  return plume::select(n2 >= splat<T>(C::atan2_num_min), lo, zero<T>());
+  auto const steep = ay > ax;
+  T const n = plume::min_select(ax, ay), d = plume::max_select(ay, ax); // n <= d
+  // Pivot 1 for r > 1/1.625, 1/2 for r > 1/2.875. n * k > d misjudges r only by its rounding
+  // (subnormal n: half a unit), which moves a segment's edge by at most ~3%.
+  auto seg1 = n * splat<T>(S(1.625)) > d;
+  auto seg_half = n * splat<T>(S(2.875)) > d;
+  T const m = plume::select(seg1, one<T>(), two<T>());
+  T num, den;
+  if constexpr (Safe) {
+    num = m * n - d;
+    den = m * d + n;
+  } else {
+    auto const inf2 = n == infinity<T>();
+    seg1 = seg1 | inf2;
+    seg_half = seg_half | inf2;
+    T const ns = n * splat<T>(S(0.25)), ds = d * splat<T>(S(0.25));
+    num = plume::select(inf2, zero<T>(), m * ns - ds);
+    den = plume::select(inf2, one<T>(), m * ds + ns);
+  }
+  // The least subnormal as the smallest divisor: 0 / 0 (both zero) gives 0, no other q moves.
+  T const q = plume::select(seg_half, num, n) /
+              plume::max_select(plume::select(seg_half, den, d),
+                                splat<T>(std::numeric_limits<S>::denorm_min()));
+  T const z = q * q;
+  T P;
+  if constexpr (std::size(C::atan2_poly) > 6)
+    P = detail::estrin(z, C::atan2_poly);
+  else
+    P = detail::horner(z, C::atan2_poly);
+  T const p = q + q * z * P;
+  // k pi/2 +- atan(c): k = 1 (steep), 2 (x < 0, incl. -0) or 0; minus when steep xor x < 0.
+  T const k_hi = plume::select(steep, splat<T>(C::atan2_pio2_hi),
+                               plume::select_sign(x, splat<T>(C::atan2_pi_hi), zero<T>()));
+  T const k_lo = plume::select(steep, splat<T>(C::atan2_pio2_lo),
+                               plume::select_sign(x, splat<T>(C::atan2_pi_lo), zero<T>()));
+  T const c_hi = plume::keep_if(
+      seg_half, plume::select(seg1, splat<T>(C::atan2_pio4_hi), splat<T>(C::atan2_half_hi)));
+  T const c_lo = plume::keep_if(
+      seg_half, plume::select(seg1, splat<T>(C::atan2_pio4_lo), splat<T>(C::atan2_half_lo)));
+  T const sign = bit_pattern<T>(sign_mask_v<T>);
+  T const minus = bit_xor(bit_and(x, sign), plume::keep_if(steep, sign));
+  return (k_hi + bit_xor(c_hi, minus)) + ((k_lo + bit_xor(c_lo, minus)) + bit_xor(p, minus));
 }
 
 /// asin's kernel R(u) = z P(z), u = 4z, z <= 1/4 (asin(s) = s + s R), with a short
@@ -360,37 +394,18 @@ template <Float T>
 PLUME_INLINE T atan2(T y, T x) noexcept {
   using C = detail::math_constants<scalar_t<T>>;
   T const ax = plume::abs(x), ay = plume::abs(y);
-  auto const steep = ay > ax;
-  T const num = plume::select(steep, ax, ay), den = plume::select(steep, ay, ax);
-  T r = num / den; // in [0, 1], with its rounding error as r_lo; 0/0 and inf/inf patched:
-  detail::dw<T> const pr = detail::two_prod(r, den);
-  T r_lo = ((num - pr.hi) - pr.lo) / den;
-  // r den = pr.hi + pr.lo exactly needs num >= atan2_num_min (no partial product of Dekker's
-  // underflows) and den <= atan2_den_max (its split does not overflow). Other lanes (tiny
-  // num, huge den, zeros, inf, NaN) take the general path: the same low word from num and
-  // den scaled by one power of two, 2^k, that brings den to [2^(2-p), 8) - exact, and with
-  // it the product, wherever the scaled num is at least atan2_num_min; below, r is under
-  // 2^-79 (float) or 2^-916 (double), atan(r) rounds as r does, and the low word is dropped.
-  // Where both paths apply they give the same low word, so no lane depends on another.
-  auto const safe = (num >= splat<T>(C::atan2_num_min)) & (den <= splat<T>(C::atan2_den_max));
-  if (!plume::all(safe)) [[unlikely]]
-    r_lo = plume::select(safe, r_lo, detail::atan2_quotient_lo(num, den, r));
-  auto const degenerate =
-      ((ax == zero<T>()) & (ay == zero<T>())) | plume::is_infinite(ax) | plume::is_infinite(ay);
-  r = plume::select((ax == zero<T>()) & (ay == zero<T>()), zero<T>(), r);
-  r = plume::select(plume::is_infinite(ax) & plume::is_infinite(ay), one<T>(), r);
-  r_lo = plume::select(degenerate, zero<T>(), r_lo);
-  T const t = detail::atan_nonneg(r, r_lo);
-  // The angle is k pi/2 +- t: t (k = 0), pi/2 - t (steep), pi/2 + t (steep, x < 0),
-  // pi - t (x < 0). k pi/2 is carried as hi + lo and t is added to the low word first, so
-  // t = 0 gives k pi/2 correctly rounded (atan2(1, 0) = pi/2, atan2(0, -1) = pi).
-  auto const neg_x = plume::is_sign_negative(x);
-  T const k = plume::select(steep, one<T>(), plume::select(neg_x, two<T>(), zero<T>()));
-  T const k_hi = k * splat<T>(C::pio2_hi), k_lo = k * splat<T>(C::pio2_lo);
-  T const signed_t = plume::select(steep ^ neg_x, -t, t);
-  T theta = k_hi + (k_lo + signed_t);
-  theta = plume::select(plume::is_nan(x) | plume::is_nan(y), x + y, theta);
-  return plume::copysign(theta, y);
+  T theta = detail::atan2_abs<true>(ax, ay, x);
+  // Lanes with a huge, infinite or NaN argument (ax + ay is NaN or over atan2_huge) take the
+  // general path, merged by select; the other lanes keep the first result whether or not it
+  // runs, so no lane depends on another.
+  auto const tame = ax + ay <= splat<T>(C::atan2_huge);
+  if (!plume::all(tame)) [[unlikely]] {
+    T const general = detail::atan2_abs<false>(ax, ay, x);
+    theta = plume::select(tame, theta,
+                          plume::select(plume::is_nan(x) | plume::is_nan(y), x + y, general));
+  }
+  // theta >= 0 (or a NaN): y's sign bit gives the lower half-plane, +-0 included.
+  return detail::bit_or(theta, detail::bit_and(y, detail::bit_pattern<T>(detail::sign_mask_v<T>)));
 }
 
 } // namespace plume

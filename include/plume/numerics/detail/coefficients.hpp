@@ -39,9 +39,14 @@ struct math_constants<float> {
   static constexpr float pio4_hi = 7.85398185253e-1f, pio4_lo = -2.18556941434e-8f;
   static constexpr float pi_hi = 3.14159274101f, pi_lo = -8.74227765735e-8f;
   static constexpr float tan_3pi_8 = 2.41421356237f, tan_pi_8 = 0.414213562373f;
-  // atan2: Dekker's product r den (r = num / den <= 1) is exact for num >= 2^(emin + p + 1),
-  // and den's split (times split_factor) cannot overflow below atan2_den_max
-  static constexpr float atan2_num_min = 0x1p-101f, atan2_den_max = 0x1p114f;
+  // atan2's offsets k pi/2 +- atan(c), c in {0, 1/2, 1}, as hi + lo with hi's last bit at
+  // 2^-22 or above, so that every sum k pi/2_hi +- atan(c)_hi (< 4) is exact
+  static constexpr float atan2_pio2_hi = 0x1.921fb4p+0f, atan2_pio2_lo = 0x1.4442d2p-24f;
+  static constexpr float atan2_pi_hi = 0x1.921fb4p+1f, atan2_pi_lo = 0x1.4442d2p-23f;
+  static constexpr float atan2_pio4_hi = 0x1.921fb8p-1f, atan2_pio4_lo = -0x1.5dde98p-24f;
+  static constexpr float atan2_half_hi = 0x1.dac67p-2f, atan2_half_lo = 0x1.586ed4p-28f;
+  // atan2: beyond this max(|y|, |x|), 2 max + min could overflow (the general path scales)
+  static constexpr float atan2_huge = 0x1p125f;
   static constexpr float ln2_hi = 6.93145751953e-1f,
                          ln2_lo = 1.42860676533e-6f; // n*hi exact, |n| < 2^8
   static constexpr float log2e = 1.44269502163f, log2e_lo = 1.92596303350e-8f;
@@ -53,6 +58,17 @@ struct math_constants<float> {
   static constexpr float expm1_clamp_lo = -30.0f; // below: -1
   // pow: |y log2|x|| beyond which 2^(y log2|x|) over/underflows whatever its low word
   static constexpr float pow_dw_limit = 256.0f;
+  // float pow's double core. log2(1 + f) = s Q(z), s = f / (2 + f), z = s^2 <= 0.1716^2;
+  // fit (weighted for relative error): 2^-37.8. 2^r = 1 + r P(r), |r| <= 1/2: 2^-28.9.
+  // t = y log2 x is clamped to +-powf_t_limit: 2^t is then a normal double, far beyond
+  // float's range on either side.
+  static constexpr double powf_log2_poly[] = {3.40734118902652094e-01, 4.11672052878205963e-01,
+                                              5.77083608521757663e-01, 9.61796673076763087e-01,
+                                              2.88539008179083067e+00};
+  static constexpr double powf_exp2_poly[] = {1.53537713565860836e-04, 1.33984667609062251e-03,
+                                              9.61843320172784365e-03, 5.55033344106826212e-02,
+                                              2.40226479677588145e-01, 6.93147202448039512e-01};
+  static constexpr double powf_t_limit = 200.0;
   // |x| below these: e^x and 2^x are normal numbers, n = round(x log2 e) in [-124, 127].
   static constexpr float exp_fast_limit = 86.0f, exp2_fast_limit = 124.0f;
   static constexpr float subnormal_scale = 16777216.0f; // 2^24
@@ -69,6 +85,10 @@ struct math_constants<float> {
   // asin_pio2_part + asin_one_up = pio2_hi exactly, 2s <= 1 is subtracted exactly from
   // asin_one_up (the float above 1) for 2s >= 1/2, and at s = 0 the sum is pio2_hi.
   static constexpr float asin_one_up = 0x1.000002p+0f, asin_pio2_part = 0x1.243f68p-1f;
+  // atan2's atan(q) = q + q z P(z), z = q^2 <= 0.36^2; fit (weighted for relative error, then
+  // rounded): relative error 2^-27.4
+  static constexpr float atan2_poly[] = {8.682586253e-02f, -1.403630525e-01f, 1.998960972e-01f,
+                                         -3.333319724e-01f};
   // atan(t) = t + t z P(z), z = t^2 <= tan(pi/8)^2; fit: relative error 1.59e-9 (2^-29.23)
   static constexpr float atan_poly[] = {5.051923183e-02f,  -8.626306881e-02f, 1.107161127e-01f,
                                         -1.428416640e-01f, 1.999997759e-01f,  -3.333333328e-01f};
@@ -116,7 +136,13 @@ struct math_constants<double> {
   static constexpr double pio4_hi = 0x1.921fb54442d18p-1, pio4_lo = 0x1.1a62633145c07p-55;
   static constexpr double pi_hi = 0x1.921fb54442d18p+1, pi_lo = 0x1.1a62633145c07p-53;
   static constexpr double tan_3pi_8 = 2.41421356237309504880, tan_pi_8 = 0.41421356237309504880;
-  static constexpr double atan2_num_min = 0x1p-968, atan2_den_max = 0x1p994;
+  // atan2's offsets, as for float: hi's last bit at 2^-51 or above (pi/2's already is)
+  static constexpr double atan2_pio2_hi = pio2_hi, atan2_pio2_lo = pio2_lo;
+  static constexpr double atan2_pi_hi = pi_hi, atan2_pi_lo = pi_lo;
+  static constexpr double atan2_pio4_hi = pio4_hi, atan2_pio4_lo = pio4_lo;
+  static constexpr double atan2_half_hi = 0x1.dac670561bb50p-2,
+                          atan2_half_lo = -0x1.2ea406ee84d0fp-55;
+  static constexpr double atan2_huge = 0x1p1021;
   static constexpr double ln2_hi = 0x1.62e42fefa3800p-1,
                           ln2_lo = 0x1.ef35793c76730p-45; // n*hi exact, |n| < 2^11
   static constexpr double log2e = 0x1.71547652b82fep+0, log2e_lo = 0x1.777d0ffda0d24p-56;
@@ -148,6 +174,12 @@ struct math_constants<double> {
       0x1.f1c72c6dfa4dep-14, 0x1.6db6db41d1496p-11,  0x1.333333336f8dbp-8,  0x1.5555555555387p-5};
   static constexpr double asin_one_up = 0x1.0000000000001p+0,
                           asin_pio2_part = 0x1.243f6a8885a2ep-1; // as for float
+  // atan2's atan(q) = q + q z P(z), z = q^2 <= 0.36^2; fit as for float: relative error 2^-58.7
+  static constexpr double atan2_poly[] = {2.56698796815522760e-02, -4.67087228030193119e-02,
+                                          5.78642229734334101e-02, -6.65679114378776582e-02,
+                                          7.69164830990574644e-02, -9.09088074929651768e-02,
+                                          1.11111103544682982e-01, -1.42857142740761722e-01,
+                                          1.99999999999112055e-01, -3.33333333333330983e-01};
   // atan(t) = t + t z P(z), z = t^2 <= tan(pi/8)^2; fit: relative error 9.29e-17 (2^-53.26)
   static constexpr double atan_poly[] = {
       -1.91945036017889016e-02, 3.92468058220015736e-02,  -5.08600343638232061e-02,
