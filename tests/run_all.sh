@@ -10,7 +10,7 @@
 #    a clang build (avx2), tests only;
 # 4. the cross-build determinism check: every deterministic build that ran (g++ and clang)
 #    must print the same golden hashes (each also compares with tests/determinism/golden.txt);
-# 5. every benchmark binary of every variant, once, with a tiny time budget;
+# 5. every benchmark binary of the scalar and the widest variant, once, with a tiny time budget;
 # 6. the generated code of the hot wide kernels (tools/kernel_loops.py): no calls out of line.
 # Every build is a preset of CMakePresets.json (build folder build/ci-<preset>), and which
 # variants this CPU runs is decided in one place, tools/cpu_gate.cpp (via tools/variants.sh).
@@ -104,13 +104,18 @@ for v in "${variants[@]}" clang-avx2; do
 done
 
 step "benchmarks, once each"
-for v in "${variants[@]}" clang-avx2; do
+# The scalar build and the widest build this CPU runs: every benchmark binary once. The
+# variants between compile the same benchmark sources (and build above), so running them
+# adds time and no code path.
+widest=scalar
+for v in "${variants[@]}"; do
+  plume_cpu_runs "$v" && [ -d "build/ci-$v/bench" ] && widest=$v
+done
+bench_variants=(scalar)
+[ "$widest" != scalar ] && bench_variants+=("$widest")
+for v in "${bench_variants[@]}"; do
   for b in build/ci-$v/bench/plume_bench_*; do
     [ -x "$b" ] || continue
-    if ! plume_cpu_runs "${v#clang-}"; then
-      echo "bench: $b skipped (this CPU lacks the $v instruction set)"
-      continue
-    fi
     echo "bench: $b"
     "$b" --benchmark_min_time=0.001 --benchmark_format=json >"$b.smoke.json" || failed+=("$b")
   done

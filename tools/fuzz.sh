@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Builds the fuzz targets (preset fuzz: clang, libFuzzer, AddressSanitizer and
+# UndefinedBehaviorSanitizer, build/fuzz) and runs each for a bounded time.
+#
+#   bash tools/fuzz.sh [seconds per target, default 20] [target ...]
+#
+# Each target starts from its committed seeds (tests/fuzz/corpus/<target>, read only) and
+# keeps what it finds in build/fuzz/corpus/<target>, so a later run continues from there.
+# A crash, a sanitizer report or a broken property stops that target and leaves the input in
+# build/fuzz/artifacts/; copy it into tests/fuzz/corpus/<target>/regress-<what> once fixed,
+# and the ordinary tests run it from then on. Exit status 0 only if every target ran clean.
+# Prints each target's executions and coverage (libFuzzer's last status line).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source tools/variants.sh
+
+if ! echo 'extern "C" int LLVMFuzzerTestOneInput(const char*, unsigned long) { return 0; }' |
+  clang++ -x c++ -fsanitize=fuzzer - -o /dev/null 2>/dev/null; then
+  echo "fuzz: clang++ cannot link libFuzzer here; on Debian: apt-get install clang-14 libclang-rt-14-dev" >&2
+  exit 1
+fi
+secs=${1:-20}
+shift || true
+if ! plume_cpu_runs avx2; then
+  echo "fuzz: skipped (the fuzz build is avx2 and this CPU lacks it)"
+  exit 0
+fi
+plume_configure fuzz build/fuzz -DCMAKE_COMPILE_WARNING_AS_ERROR=ON
+plume_build build/fuzz
+
+targets=("$@")
+if [ ${#targets[@]} -eq 0 ]; then
+  for f in build/fuzz/tests/fuzz/plume_fuzz_*; do
+    [[ -x "$f" && "$f" != *_inputs ]] && targets+=("${f##*/plume_fuzz_}")
+  done
+fi
+mkdir -p build/fuzz/artifacts
+failed=()
+for t in "${targets[@]}"; do
+  mkdir -p "build/fuzz/corpus/$t"
+  log="build/fuzz/$t.log"
+  if ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+    "build/fuzz/tests/fuzz/plume_fuzz_$t" -max_total_time="$secs" -rss_limit_mb=2048 -timeout=10 \
+    -print_final_stats=1 -artifact_prefix="build/fuzz/artifacts/$t-" \
+    "build/fuzz/corpus/$t" "tests/fuzz/corpus/$t" >"$log" 2>&1; then
+    runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || true)
+    cov=$(grep -o 'cov: [0-9]*' "$log" | tail -n 1 || true)
+    printf 'fuzz %-22s %10s executions in %ss, %s\n' "$t" "${runs:-?}" "$secs" "${cov:-cov: ?}"
+  else
+    echo "fuzz $t FAILED (log: $log):"
+    tail -n 30 "$log"
+    failed+=("$t")
+  fi
+done
+if [ ${#failed[@]} -ne 0 ]; then
+  printf 'fuzz: FAILED: %s\n' "${failed[@]}"
+  exit 1
+fi
