@@ -175,6 +175,14 @@ __attribute__((always_inline, target("fma"))) inline __m256 madd(__m256 a, __m25
   else
     return _mm256_add_ps(c, _mm256_mul_ps(a, b));
 }
+/// c - a * b, fused or not.
+template <bool Fused>
+__attribute__((always_inline, target("fma"))) inline __m256 nmadd(__m256 a, __m256 b, __m256 c) {
+  if constexpr (Fused)
+    return _mm256_fnmadd_ps(a, b, c);
+  else
+    return _mm256_sub_ps(c, _mm256_mul_ps(a, b));
+}
 /// a * b - c * d: the second product rounded, the first fused into the subtraction or not.
 template <bool Fused>
 __attribute__((always_inline, target("fma"))) inline __m256 mdiff(__m256 a, __m256 b, __m256 c,
@@ -201,7 +209,8 @@ sphere_intrinsics(packed<plume::f32x8> const& p, plume::GVec3<plume::f32x8> cons
   using plume::f32x8;
   __m256 const zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.f),
                inf = _mm256_set1_ps(std::numeric_limits<float>::infinity()),
-               lim = _mm256_set1_ps(std::numeric_limits<float>::max()), none = _mm256_set1_ps(-1.f);
+               lim = _mm256_set1_ps(std::numeric_limits<float>::max()), none = _mm256_set1_ps(-1.f),
+               sqrt_eps = _mm256_set1_ps(std::sqrt(std::numeric_limits<float>::epsilon()));
   __m256 const ox0 = o0.x.data, oy0 = o0.y.data, oz0 = o0.z.data;
   __m256 const dx0 = d0.x.data, dy0 = d0.y.data, dz0 = d0.z.data;
   for (std::size_t i = 0; i < p.o.size(); ++i) {
@@ -229,16 +238,34 @@ sphere_intrinsics(packed<plume::f32x8> const& p, plume::GVec3<plume::f32x8> cons
     __m256 const toi = _mm256_blendv_ps(t, _mm256_sub_ps(b, b), inside);
     __m256 const hit =
         _mm256_and_ps(_mm256_or_ps(inside, toward), _mm256_cmp_ps(toi, lim, _CMP_LE_OQ));
-    // normal (f + d t) / r where the hit has a surface and r > 0; feature 0 there, else -1
+    // normal n = (f + d t) / r where the hit has a surface and r > 0, made unit by one Newton
+    // step n (1.5 - 0.5 n . n) where |n . n - 1| <= sqrt(eps), else by n / |n| (where that
+    // is finite and > 0, zero elsewhere); feature 0 there, else -1
     __m256 const inv_r = _mm256_div_ps(one, r);
+    __m256 const nx = _mm256_mul_ps(madd<Fused>(dx, t, fx), inv_r),
+                 ny = _mm256_mul_ps(madd<Fused>(dy, t, fy), inv_r),
+                 nz = _mm256_mul_ps(madd<Fused>(dz, t, fz), inv_r);
+    __m256 const l2 = madd<Fused>(nz, nz, madd<Fused>(ny, ny, _mm256_mul_ps(nx, nx)));
+    __m256 const step = nmadd<Fused>(_mm256_set1_ps(0.5f), l2, _mm256_set1_ps(1.5f));
+    __m256 ux = _mm256_mul_ps(nx, step), uy = _mm256_mul_ps(ny, step), uz = _mm256_mul_ps(nz, step);
     __m256 const surface = _mm256_andnot_ps(inside, hit);
     __m256 const keep = _mm256_and_ps(surface, _mm256_cmp_ps(r, zero, _CMP_GT_OQ));
+    __m256 const off = _mm256_andnot_ps(_mm256_set1_ps(-0.0f), _mm256_sub_ps(l2, one));
+    __m256 const far = _mm256_andnot_ps(_mm256_cmp_ps(off, sqrt_eps, _CMP_LE_OQ), keep);
+    if (_mm256_movemask_ps(far) != 0) {
+      __m256 const rl = _mm256_div_ps(one, _mm256_sqrt_ps(l2));
+      __m256 const ok = _mm256_and_ps(far, _mm256_and_ps(_mm256_cmp_ps(rl, inf, _CMP_LT_OQ),
+                                                         _mm256_cmp_ps(rl, zero, _CMP_GT_OQ)));
+      ux = _mm256_blendv_ps(ux, _mm256_and_ps(ok, _mm256_mul_ps(nx, rl)), far);
+      uy = _mm256_blendv_ps(uy, _mm256_and_ps(ok, _mm256_mul_ps(ny, rl)), far);
+      uz = _mm256_blendv_ps(uz, _mm256_and_ps(ok, _mm256_mul_ps(nz, rl)), far);
+    }
     plume::GRayHit<f32x8>& h = out[i];
     h.hit = plume::mask_t<f32x8>(hit);
     h.toi = f32x8(_mm256_blendv_ps(inf, toi, hit));
-    h.normal.x = f32x8(_mm256_and_ps(keep, _mm256_mul_ps(madd<Fused>(dx, t, fx), inv_r)));
-    h.normal.y = f32x8(_mm256_and_ps(keep, _mm256_mul_ps(madd<Fused>(dy, t, fy), inv_r)));
-    h.normal.z = f32x8(_mm256_and_ps(keep, _mm256_mul_ps(madd<Fused>(dz, t, fz), inv_r)));
+    h.normal.x = f32x8(_mm256_and_ps(keep, ux));
+    h.normal.y = f32x8(_mm256_and_ps(keep, uy));
+    h.normal.z = f32x8(_mm256_and_ps(keep, uz));
     h.feature = f32x8(_mm256_andnot_ps(surface, none));
   }
 }

@@ -373,7 +373,7 @@ void World::finalize_bodies() {
 
 template <class T>
 void World::step_with(float dt) {
-  if (!(dt > 0.0f) || !std::isfinite(dt)) return;
+  if (!(dt >= min_dt && dt <= max_dt)) return; // (NaN and infinities fail it too)
   auto const t_start = clock::now();
   events_ = std::move(pending_);
   pending_ = StepEvents{};

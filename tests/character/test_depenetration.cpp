@@ -90,8 +90,8 @@ TEST_CASE("depenetration: rejection, bad input, scaling", "[solver][depenetratio
   CHECK(DepenetrationConfig{}.scaled(100).max_error == 1e-4f * 100);
 }
 
-PLUME_WIDE_TEST_CASE("wide depenetration equals scalar per lane",
-                        "[solver][depenetration][lanes]", wide_real_types) {
+PLUME_WIDE_TEST_CASE("wide depenetration equals scalar per lane", "[solver][depenetration][lanes]",
+                     wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;
   rng r(31);
@@ -155,6 +155,18 @@ TEST_CASE("plane set: merging, rejection, capacity", "[solver][planes]") {
     CHECK(set.count() == 0);
     CHECK(set.normals().empty());
   }
+  SECTION("any finite nonzero normal is a direction: huge and subnormal ones too") {
+    PlaneSet3 set(v);
+    CHECK(set.add({0, -1.7e38f, 3e38f})); // its square overflows
+    REQUIRE(set.count() == 1);
+    Vec3 const want = Vec3{0, -1.7f, 3.0f}.normalize();
+    CHECK((set.normals()[0] - want).length() <= 1e-6f);
+    CHECK(set.add({1e-44f, 0, 0})); // subnormal: its square underflows
+    REQUIRE(set.count() == 2);
+    CHECK(set.normals()[1].x == 1.0f);
+    for (auto const& n : set.normals())
+      CHECK(std::abs(n.length() - 1.0f) <= 1e-6f);
+  }
   SECTION("more planes than max_planes: the least relevant is replaced, overflow reported") {
     PlaneSetConfig cfg;
     cfg.max_planes = 3;
@@ -184,7 +196,7 @@ TEST_CASE("plane set: merging, rejection, capacity", "[solver][planes]") {
 }
 
 PLUME_WIDE_TEST_CASE("wide plane sets equal scalar ones per lane", "[solver][planes][lanes]",
-                        wide_real_types) {
+                     wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;
   rng r(8);

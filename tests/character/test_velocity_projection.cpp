@@ -390,6 +390,24 @@ TEMPLATE_LIST_TEST_CASE("bad input: empty sets, zero and non-unit normals, tiny 
       CHECK(same_vec(project_velocity_bruteforce(v, bad_normals).velocity, V{}));
     }
   }
+  SECTION("a nonzero normal shorter than 2^-20 or longer than 2^20: invalid_input") {
+    V const floor{zero<T>(), zero<T>(), one<T>()};
+    for (S len : {S(0x1p21), S(1e30), S(1.7e38), S(0x1p-21), S(1e-30)}) {
+      std::vector<V> const normals = {floor, V{zero<T>(), splat<T>(len), zero<T>()}};
+      auto const r = project_velocity(v, normals);
+      CHECK(same_vec(r.velocity, V{}));
+      CHECK(plume::all(r.invalid_input));
+      CHECK(plume::none(r.converged));
+      CHECK(plume::all(project_velocity_bruteforce(v, normals).invalid_input));
+    }
+    for (S len : {S(0x1p20), S(0x1p-20)}) { // the ends of the range act as their planes
+      std::vector<V> const normals = {V{zero<T>(), zero<T>(), splat<T>(len)}};
+      auto const r = project_velocity(v, normals);
+      CHECK(plume::none(r.invalid_input));
+      CHECK(plume::all(r.converged));
+      CHECK(plume::all(r.velocity.z >= -splat<T>(S(0.005)) / splat<T>(len)));
+    }
+  }
   SECTION("out of steps: zero velocity, not converged") {
     GVelocityProjectionConfig<S> cfg;
     cfg.max_steps = 1;

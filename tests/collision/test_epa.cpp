@@ -163,6 +163,11 @@ TEST_CASE("penetration: closed forms, rounded shapes, fallbacks, bad input", "[c
   auto const bad = penetration(Sphere{1}, Iso3::from_translation({nan, 0, 0}), box, Iso3{});
   CHECK(bad.status == PenetrationStatus::failed);
   CHECK(std::isnan(bad.depth));
+  // A NaN shape parameter, overlapping or not (found by the penetration fuzz target: a NaN
+  // triangle vertex that support never picks).
+  Triangle const nan_tri{{-5, 0, -5}, {5, 0, -5}, {nan, 0, 5}};
+  CHECK(penetration(nan_tri, Iso3{}, box, Iso3{}).status == PenetrationStatus::failed);
+  CHECK(penetration(Capsule{1, nan}, Iso3{}, box, Iso3{}).status == PenetrationStatus::failed);
   // A one-iteration cap reports approximate with a finite lower bound.
   EpaConfig capped;
   capped.max_iterations = 1;

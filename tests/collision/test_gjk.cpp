@@ -268,6 +268,13 @@ TEST_CASE("closest points: overlap, touching, warm starts, bad input", "[collisi
   CHECK(std::isnan(bad.distance));
   CHECK(closest_points(Sphere{inf}, Iso3{}, box, Iso3{}).failed);
   CHECK(closest_points(Cuboid{{nan, 1, 1}}, Iso3{}, box, Iso3::from_translation({5, 0, 0})).failed);
+  // A NaN vertex that support never picks (its dot products are NaN: never the largest) is
+  // still failed input (found by the gjk_distance fuzz target).
+  Triangle const nan_tri{{0, 0, 0}, {1, 0, 0}, {nan, 1, 0}};
+  CHECK(closest_points(nan_tri, Iso3{}, box, Iso3::from_translation({5, 0, 0})).failed);
+  Vec3 const pts[] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, nan}};
+  CHECK(closest_points(ConvexPolytope{pts}, Iso3{}, box, Iso3::from_translation({5, 0, 0})).failed);
+  CHECK(closest_points(Segment{{0, 0, 0}, {nan, 0, 0}}, Iso3{}, box, Iso3{}).failed);
   // A capped iteration count reports out of iterations (not converged).
   GjkConfig one_step;
   one_step.max_iterations = 1;
@@ -443,6 +450,10 @@ TEST_CASE("shape casts: skins, starting in contact, misses, bad input", "[collis
       shape_cast(Sphere{1}, Iso3::from_translation({nan, 0, 0}), Vec3{-1, 0, 0}, wall, Iso3{}, cfg)
           .failed);
   CHECK(shape_cast(Sphere{1}, at, Vec3{-1, 0, 0}, Cuboid{{nan, 1, 1}}, Iso3{}, cfg).failed);
+  CHECK(shape_cast(Capsule{nan, 0.5f}, at, Vec3{-1, 0, 0}, wall, Iso3{}, cfg).failed);
+  CHECK(shape_cast(Sphere{1}, at, Vec3{-1, 0, 0}, Triangle{{0, 0, 0}, {1, 0, 0}, {0, nan, 0}},
+                   Iso3{}, cfg)
+            .failed);
   // Infinite max_toi: a hit far away is found.
   ShapeCastConfig unlimited = cfg;
   unlimited.max_toi = std::numeric_limits<float>::infinity();
@@ -502,6 +513,24 @@ TEST_CASE("casts stopped by the iteration cap report a conservative hit",
     exits += e.hit && e.toi > 0;
   }
   CHECK(exits > 0); // some caps let the exit search finish: the check above is not vacuous
+}
+
+TEST_CASE("GJK ray casts honour a negative max_toi like the closed forms",
+          "[collision][gjk][cast]") {
+  // From inside a solid shape the hit is at toi 0, which a max_toi below 0 excludes (found by
+  // the ray_cast fuzz target: ray_cast_gjk hit at 0 with max_toi = -1).
+  ConvexHull const box = box_hull({1, 1, 1});
+  Ray3 const inside{{0.2f, 0, 0}, {1, 0, 0}};
+  CHECK(ray_cast_gjk(box, Iso3{}, inside, 0.0f).hit);
+  CHECK(ray_cast(Cuboid{{1, 1, 1}}, Iso3{}, inside, 0.0f).hit);
+  for (float max_toi : {-1.0f, -1e-30f}) {
+    INFO("max_toi " << max_toi);
+    auto const g = ray_cast_gjk(box, Iso3{}, inside, max_toi);
+    CHECK(!g.hit);
+    CHECK(g.toi == std::numeric_limits<float>::infinity());
+    CHECK(!ray_cast(Cuboid{{1, 1, 1}}, Iso3{}, inside, max_toi).hit);
+    CHECK(!ray_cast_gjk(box, Iso3{}, Ray3{{-5, 0, 0}, {1, 0, 0}}, max_toi).hit);
+  }
 }
 
 TEST_CASE("casts moving parallel to a face, outside it, miss", "[collision][gjk][cast]") {

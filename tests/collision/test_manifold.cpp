@@ -213,6 +213,18 @@ TEST_CASE("manifold: speculative points, apart, ids that persist", "[collision][
   auto const bad = contact_manifold(box, at({nan, 0, 0}), ground, ground_pose);
   CHECK(bad.failed);
   CHECK(bad.count == 0);
+  // A NaN shape parameter, against a half-space too (found by the contact_manifold fuzz
+  // target: a NaN sphere radius on a plane gave a point with a NaN separation).
+  HalfSpace const plane{{0, 1, 0}};
+  for (Manifold const& m : {contact_manifold(Sphere{nan}, at({0, 0.5f, 0}), plane, Iso3{}),
+                            contact_manifold(plane, Iso3{}, Sphere{nan}, at({0, 0.5f, 0})),
+                            contact_manifold(Cuboid{{1, nan, 1}}, at({0, 0.5f, 0}), plane, Iso3{}),
+                            contact_manifold(Capsule{nan, 0.5f}, Iso3{}, box, at({0, 0.5f, 0})),
+                            contact_manifold(box, Iso3{}, Cuboid{{nan, 1, 1}}, at({0, 0.5f, 0})),
+                            contact_manifold(HalfSpace{{nan, 1, 0}}, Iso3{}, box, Iso3{})}) {
+    CHECK(m.failed);
+    CHECK(m.count == 0);
+  }
 }
 
 TEST_CASE("manifold: spheres and capsules", "[collision][manifold]") {

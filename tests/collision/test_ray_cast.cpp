@@ -549,6 +549,49 @@ TEST_CASE("far coordinates: a sphere 1e5 away", "[collision][ray]") {
   }
 }
 
+TEST_CASE("small spheres and capsules far from the origin: unit normals", "[collision][ray]") {
+  // The hit point's rounding is about ulp(10) = 1e-6 here, 1% of the radius: p / r was 1.4e-3
+  // off unit for r = 1e-4 (found by the ray_cast fuzz target). The normal is normalised.
+  float const inf = std::numeric_limits<float>::infinity();
+  int hits = 0;
+  for (int i = 0; i < 200; ++i) {
+    float const a = 0.031f * float(i);
+    Vec3 const o{10.3f + std::sin(a), -9.7f, 10.1f + std::cos(3 * a)};
+    for (float r : {1e-4f, 3e-5f}) {
+      Vec3 const d = (Vec3{0, 0.5f * r * std::sin(5 * a), 0.5f * r} - o).normalize();
+      for (bool solid : {true, false}) {
+        auto const s = ray_cast(Sphere{r}, Iso3{}, Ray3{o, d}, inf, solid);
+        auto const c = ray_cast(Capsule{2 * r, r}, Iso3{}, Ray3{o, d}, inf, solid);
+        for (RayHit const& h : {s, c}) {
+          if (!h.hit) continue;
+          ++hits;
+          CHECK(std::abs(h.normal.length() - 1.0f) <= 4e-7f);
+          CHECK(h.normal.dot(d) < 0.0f); // entering from outside
+        }
+      }
+    }
+  }
+  CHECK(hits > 600);
+}
+
+TEST_CASE("a half-space entered so far that toi overflows: a miss", "[collision][ray]") {
+  // toi = -s / (n . dir) overflows for a tiny direction (found by the ray_cast fuzz target: a
+  // hit at toi = +infinity).
+  float const inf = std::numeric_limits<float>::infinity();
+  HalfSpace const ground{{0, 1, 0}};
+  Ray3 const ray{{0, 5, 0}, {0, -1e-38f, 0}};
+  for (bool solid : {true, false}) {
+    auto const h = ray_cast(ground, Iso3{}, ray, inf, solid);
+    CHECK(!h.hit);
+    CHECK(h.toi == inf);
+    CHECK(h.normal.length_squared() == 0.0f);
+  }
+  // Just in range: a hit at a huge but finite toi.
+  auto const far = ray_cast(ground, Iso3{}, Ray3{{0, 5, 0}, {0, -1e-37f, 0}}, inf);
+  CHECK(far.hit);
+  CHECK(far.toi == Approx(5e37f));
+}
+
 TEST_CASE("triangles: watertight on a fan, oracle hits, degenerate cases", "[collision][ray]") {
   float const inf = std::numeric_limits<float>::infinity();
   SECTION("a dense ray grid through a 16-triangle fan: every ray inside hits exactly once") {

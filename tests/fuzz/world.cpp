@@ -16,11 +16,11 @@
 //    generation and the old id stays dead;
 //  - setters do what they say (pose, velocity, layers, type, motor; a static body has no
 //    velocity; an impulse changes a dynamic body's velocity by J / m);
-//  - step ignores dt <= 0 and non-finite dt (state hash unchanged); after a step every live
-//    body's pose and velocities are finite, static bodies have not moved, frozen bodies are
-//    listed, events list live-at-the-time pairs in increasing order with the lower slot first, and
-//    joint states are finite; step_with<T> gives the world step() gives for float and every
-//    f32 width the build has;
+//  - step ignores dt outside [World::min_dt, World::max_dt] (NaN too; state hash unchanged);
+//    after a step every live body's pose and velocities are finite, static bodies have not moved,
+//    frozen bodies are listed, events list live-at-the-time pairs in increasing order with the
+//    lower slot first, and joint states are finite; step_with<T> gives the world step() gives for
+//    float and every f32 width the build has;
 //  - queries see only live bodies; the closest ray hit is the first of ray_cast_all and the
 //    batch ray cast gives the single one's bits; non-finite queries find nothing.
 #include "fuzz_input.hpp"
@@ -816,7 +816,7 @@ void step(plume::World& w, Mirror& m, Input& in, int& steps) {
   std::vector<Iso3> static_poses;
   for (MirrorBody const& b : m.bodies)
     if (b.alive && b.type == plume::BodyType::static_body) static_poses.push_back(w.pose(b.id));
-  bool const ignored = !(dt > 0.0f) || !std::isfinite(dt);
+  bool const ignored = !(dt >= plume::World::min_dt && dt <= plume::World::max_dt);
   // step_with<T> gives the world step() gives, for every width the build has.
   std::vector<std::uint64_t> widths;
   if constexpr (std::is_copy_constructible_v<plume::World>)

@@ -61,6 +61,14 @@ struct GConvexPolytope {
   }
   GVec3<T> core_support(GVec3<T> const& dir) const noexcept { return support(dir); }
   T core_radius() const noexcept { return zero<T>(); }
+  /// Lanes whose points are all finite (one pass over them; the queries report the others as
+  /// failed: support never picks a point whose dot product is NaN).
+  mask_t<T> is_finite() const noexcept {
+    T acc = zero<T>();
+    for (auto const& p : points)
+      acc = acc + (((p.x - p.x) + (p.y - p.y)) + (p.z - p.z));
+    return acc == zero<T>();
+  }
   GAabb3<T> local_aabb() const noexcept {
     if (points.empty()) return {};
     GAabb3<T> box{points[0], points[0]};

@@ -132,6 +132,18 @@ PLUME_INLINE mask_t<T> finite3(GVec3<T> const& v) noexcept {
   return (plume::is_finite(v.x) & plume::is_finite(v.y)) & plume::is_finite(v.z);
 }
 
+/// The lanes where a shape's parameters are finite: its is_finite() where it has one (every
+/// shape of shapes.hpp; a built hull is finite by construction), else every lane.
+template <Real T, class Shape>
+PLUME_INLINE mask_t<T> shape_finite(Shape const& s) noexcept {
+  if constexpr (requires {
+                  { s.is_finite() } -> std::convertible_to<mask_t<T>>;
+                })
+    return s.is_finite();
+  else
+    return all_lanes<T>();
+}
+
 /// The vertex of D = B - A along d: p = sB(d) - sA(-d).
 template <class SA, class SB, Real T>
 PLUME_INLINE simplex_vertex<T> minkowski_vertex(SA const& sa, SB const& sb,
@@ -279,7 +291,7 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
 
   mask_t<T> good_input =
       ((pose_a.is_finite() & pose_b.is_finite()) & (plume::is_finite(ra) & plume::is_finite(rb))) &
-      detail::finite3(axis);
+      (detail::finite3(axis) & (detail::shape_finite<T>(a) & detail::shape_finite<T>(b)));
   mask_t<T> bad_input = !good_input;
   GVec3<T> v =
       GVec3<T>::select(axis.dot(axis) > zero, axis, pose_a.translation - pose_b.translation);
@@ -368,8 +380,9 @@ shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const
   detail::placed<B, T> const sb{b, pose_b};
   T ra = a.core_radius(), rb = b.core_radius();
   T radius = (ra + rb) + splat<T>(S(cfg.target_distance));
-  mask_t<T> good_input = (pose_a.is_finite() & pose_b.is_finite()) &
-                         (detail::finite3(motion_a) & plume::is_finite(radius));
+  mask_t<T> good_input = ((pose_a.is_finite() & pose_b.is_finite()) &
+                          (detail::finite3(motion_a) & plume::is_finite(radius))) &
+                         (detail::shape_finite<T>(a) & detail::shape_finite<T>(b));
   mask_t<T> bad_input = !good_input;
   // The ray t * motion_a against D = B - A, from a direction pointing from D to the origin.
   detail::cast_state<T> c =
@@ -417,14 +430,15 @@ PLUME_FLATTEN GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, 
   detail::origin_support<T> none{};
   detail::placed<Shape, T> const sb{shape, pose};
   T radius = shape.core_radius();
-  mask_t<T> good_input = (pose.is_finite() & detail::finite3(ray.origin)) &
-                         (detail::finite3(ray.dir) & plume::is_finite(radius));
+  mask_t<T> good_input = ((pose.is_finite() & detail::finite3(ray.origin)) &
+                          (detail::finite3(ray.dir) & plume::is_finite(radius))) &
+                         detail::shape_finite<T>(shape);
   mask_t<T> bad_input = (!good_input) | plume::is_nan(max_toi);
   detail::cast_state<T> c = detail::gjk_cast(none, sb, ray.origin, ray.dir, max_toi, radius,
                                              ray.origin - pose.translation, bad_input, cfg);
   GRayHit<T> out;
-  out.feature = -one<T>(); // polytope views have no faces: unknown
-  out.hit = c.hit & (!c.failed);
+  out.feature = -one<T>();                              // polytope views have no faces: unknown
+  out.hit = (c.hit & (!c.failed)) & (c.toi <= max_toi); // (a start inside: toi 0, max_toi < 0)
   out.toi = plume::select(out.hit, c.toi, infinity<T>());
   out.normal = GVec3<T>::select(out.hit & (!c.started_inside), c.n.normalize_or_zero(), GVec3<T>{});
   if (!solid) {

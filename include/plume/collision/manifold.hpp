@@ -685,7 +685,8 @@ GManifold<S> contact_manifold(A const& a, GIso3<S> const& pose_a, B const& b,
   using KA = detail::shape_kind<A>;
   using KB = detail::shape_kind<B>;
   GManifold<S> m;
-  if (!(pose_a.is_finite() && pose_b.is_finite())) {
+  if (!(pose_a.is_finite() && pose_b.is_finite() && detail::shape_finite<S>(a) &&
+        detail::shape_finite<S>(b))) {
     m.failed = true;
     return m;
   }

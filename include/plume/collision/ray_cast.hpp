@@ -261,6 +261,23 @@ PLUME_INLINE GRayHit<T> with_normal(pre_hit<T> const& h, GVec3<T> const& n, T fe
           plume::select(surface, feature, -one<T>())};
 }
 
+/// n made unit where `needed`, for an n that is already unit up to the rounding of the hit
+/// point it came from (p / r): one Newton step n (3 - n . n) / 2, which leaves |n| within
+/// 1.5 e^2 of 1 for |n| = 1 + e, on the lanes where |n . n - 1| <= sqrt(eps) (e below
+/// 1.7e-4 in float: the step's error is then below eps / 2); the other needed lanes (a small
+/// shape far from the origin, whose hit point's rounding is a fraction of its size) take
+/// n / |n|, computed only when a lane needs it. Not a division and a square root per hit:
+/// those cost the closed-form sphere cast a third of its speed (docs/performance.md).
+template <Real T>
+PLUME_INLINE GVec3<T> unit_normal(GVec3<T> const& n, mask_t<T> needed) noexcept {
+  T const l2 = n.dot(n);
+  GVec3<T> out = n * (splat<T>(1.5) - half<T>() * l2);
+  mask_t<T> const near = plume::abs(l2 - one<T>()) <= plume::sqrt(epsilon<T>());
+  mask_t<T> const far = plume::and_not(needed, near);
+  if (plume::any(far)) out = GVec3<T>::select(far, n.normalize_or(GVec3<T>{}), out);
+  return out;
+}
+
 /// +0 where d is finite, NaN where it is not: (x - x) summed over the components.
 template <Real T>
 PLUME_INLINE T zero_if_finite(GVec3<T> const& d) noexcept {
@@ -315,9 +332,13 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GSphere<T> const& s, GRay3<T> const& ray,
     auto const iv = detail::sphere_part(ray.origin, ray.dir, s.radius);
     h = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, false);
   }
-  // The normal p / r with one division; a zero radius has no normal.
+  // The normal p / r, made unit (unit_normal: the hit point's rounding need not be small
+  // against r). A zero radius has no normal.
+  mask_t<T> const has_normal = s.radius > zero<T>();
   T const inv_r = one<T>() / s.radius;
-  return detail::with_normal(h, ray.at(h.at) * inv_r, zero<T>(), s.radius > zero<T>());
+  GVec3<T> const n =
+      detail::unit_normal(ray.at(h.at) * inv_r, plume::and_not(h.hit, h.bare) & has_normal);
+  return detail::with_normal(h, n, zero<T>(), has_normal);
 }
 
 namespace detail {
@@ -480,11 +501,13 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GCapsule<T> const& cap, GRay3<T> const& r
     iv.ok = iv.ok & (side_out | plume::select(top_out, top.ok, bottom.ok));
     hit = detail::finish(detail::ray_valid(ray), inside, iv, max_toi, false);
   }
-  // The outward normal (p - nearest point of the segment) / r; a zero radius has none.
+  // The outward normal (p - nearest point of the segment) / r, made unit (unit_normal); a
+  // zero radius has none.
   V const p = ray.at(hit.at);
   T const inv_r = one<T>() / r;
   T const cy_hit = plume::clamp_select(p.y, -h, h);
-  V const n = V{p.x, p.y - cy_hit, p.z} * inv_r;
+  V const n = detail::unit_normal(V{p.x, p.y - cy_hit, p.z} * inv_r,
+                                  plume::and_not(hit.hit, hit.bare) & (r > zero));
   T const part = plume::select(p.y > h, one<T>(), plume::select(p.y < -h, two<T>(), zero));
   return detail::with_normal(hit, n, part, r > zero);
 }
@@ -533,7 +556,9 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GHalfSpace<T> const& hs, GRay3<T> const& 
   auto const inside = s <= zero;
   // Outside: entered at t when moving towards the plane. Inside: left at t when moving out.
   detail::ray_interval<T> iv;
-  iv.ok = plume::select(inside, dn > zero, dn < zero);
+  // (An entry so far that t overflows, from a tiny dn, is a miss.)
+  mask_t<T> const entering = (dn < zero) & (t < inf);
+  iv.ok = plume::select(inside, dn > zero, entering);
   iv.tin = plume::select(inside, -inf, t);
   iv.tout = plume::select(inside, t, inf);
   return detail::with_normal(detail::finish(detail::ray_valid(ray), inside, iv, max_toi, solid),

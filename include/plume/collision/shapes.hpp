@@ -11,7 +11,8 @@
 //   GTriangle<T>   vertices a, b, c (no interior: a surface)
 //   GSegment<T>    the points between a and b (no interior: a line)
 //
-// Each shape has volume(), local_aabb() and aabb(pose) (a half-space's box is infinite), and
+// Each shape has is_finite() (the lanes whose parameters are all finite), volume(),
+// local_aabb() and aabb(pose) (a half-space's box is infinite), and
 // support(dir): the point of the shape farthest along dir (dir need not be unit; a zero dir
 // gives a point of the shape). Degenerate sizes (radius 0, zero extents) are valid shapes:
 // a point, a segment, a flat box. Sizes are not checked: a negative or non-finite one gives
@@ -72,6 +73,8 @@ struct GSphere {
   /// The core is the centre.
   GVec3<T> core_support(GVec3<T> const&) const noexcept { return {}; }
   T core_radius() const noexcept { return radius; }
+  /// Lanes whose parameters are all finite (the queries report the others as failed).
+  mask_t<T> is_finite() const noexcept { return plume::is_finite(radius); }
   /// I = 2/5 m r^2 on every axis.
   GMassProperties<T> mass_properties(T density) const noexcept {
     T const m = density * volume();
@@ -107,6 +110,9 @@ struct GCapsule {
     return {zero<T>(), plume::select(dir.y < zero<T>(), -half_height, half_height), zero<T>()};
   }
   T core_radius() const noexcept { return radius; }
+  mask_t<T> is_finite() const noexcept {
+    return plume::is_finite(half_height) & plume::is_finite(radius);
+  }
   /// A cylinder of mass mc and two hemispheres of total mass ms: I_yy = mc r^2/2 + 2/5 ms r^2,
   /// I_xx = I_zz = mc (r^2/4 + h^2/3) + ms (2/5 r^2 + h^2 + 3/4 h r) (each hemisphere's
   /// centre of mass is 3r/8 beyond the end of the segment).
@@ -141,6 +147,7 @@ struct GCuboid {
   }
   GVec3<T> core_support(GVec3<T> const& dir) const noexcept { return support(dir); }
   T core_radius() const noexcept { return zero<T>(); }
+  mask_t<T> is_finite() const noexcept { return half_extents.is_finite(); }
   /// I_xx = m (e_y^2 + e_z^2) / 3 and its cyclic counterparts (e: half extents).
   GMassProperties<T> mass_properties(T density) const noexcept {
     T const m = density * volume();
@@ -180,6 +187,9 @@ struct GCylinder {
   }
   GVec3<T> core_support(GVec3<T> const& dir) const noexcept { return support(dir); }
   T core_radius() const noexcept { return zero<T>(); }
+  mask_t<T> is_finite() const noexcept {
+    return plume::is_finite(half_height) & plume::is_finite(radius);
+  }
   /// I_yy = m r^2 / 2, I_xx = I_zz = m (r^2/4 + h^2/3) (h: half height).
   GMassProperties<T> mass_properties(T density) const noexcept {
     T const m = density * volume();
@@ -197,6 +207,7 @@ struct GHalfSpace {
   GAabb3<T> aabb(GIso3<T> const&) const noexcept {
     return {GVec3<T>::splat(-infinity<T>()), GVec3<T>::splat(infinity<T>())};
   }
+  mask_t<T> is_finite() const noexcept { return normal.is_finite(); }
 };
 
 /// A triangle a, b, c (counter-clockwise seen from the side its normal points to). Zero area
@@ -223,6 +234,7 @@ struct GTriangle {
   }
   GVec3<T> core_support(GVec3<T> const& dir) const noexcept { return support(dir); }
   T core_radius() const noexcept { return zero<T>(); }
+  mask_t<T> is_finite() const noexcept { return (a.is_finite() & b.is_finite()) & c.is_finite(); }
   /// A surface has no mass: mass 0, centre at the centroid, zero inertia.
   GMassProperties<T> mass_properties(T) const noexcept {
     return {zero<T>(), (a + b + c) * splat<T>(1.0 / 3.0), GMat3<T>::ZERO};
@@ -245,6 +257,7 @@ struct GSegment {
   }
   GVec3<T> core_support(GVec3<T> const& dir) const noexcept { return support(dir); }
   T core_radius() const noexcept { return zero<T>(); }
+  mask_t<T> is_finite() const noexcept { return a.is_finite() & b.is_finite(); }
   /// A line has no mass: mass 0, centre at the midpoint, zero inertia.
   GMassProperties<T> mass_properties(T) const noexcept {
     return {zero<T>(), (a + b) * half<T>(), GMat3<T>::ZERO};

@@ -56,9 +56,13 @@ public:
 
   /// Adds `normal` (any length) per lane; returns the lanes where it was kept or merged.
   M add(Vec const& normal) {
-    T const len2 = normal.dot(normal);
-    Vec const unit = normal * (one<T>() / plume::sqrt(len2));
-    M const usable = (len2 > zero<T>()) & unit.is_finite();
+    // Scaled by the largest component first, so that no finite normal's square over- or
+    // underflows (1e30 and 1e-30 are directions like any other).
+    T const big = normal.abs().max_element();
+    Vec const scaled = normal / big; // (not * (1 / big): that overflows for a subnormal big)
+    T const len2 = scaled.dot(scaled);
+    Vec const unit = scaled * (one<T>() / plume::sqrt(len2));
+    M const usable = ((big > zero<T>()) & plume::is_finite(big)) & unit.is_finite();
     Vec const n = Vec::select(usable, unit, Vec{});
     T const nv = n.dot(velocity_);
     T const merge_cos = splat<T>(cfg_.merge_cos);

@@ -41,7 +41,7 @@
 //
 // Conventions and bad input:
 //  - Normals should be unit length (PlaneSet3/PlaneSet2 build such sets). A nonzero normal
-//    of any length still acts as the plane it defines (the formulas use n . n); only the
+//    of another length (within the range below) acts as the plane it defines; only the
 //    violation tolerance scales with |n|. Zero normals are ignored.
 //  - epsilon (velocity units, default 0.005 x length unit / s): a plane counts as violated
 //    when n . u < -epsilon. With unit normals, a v with |v| < epsilon comes back unchanged.
@@ -49,8 +49,9 @@
 //    parallel_epsilon |n_i|^2 |n_j|^2 have no usable crease; three planes whose triple
 //    product squared is at most parallel_epsilon |n_i|^2 |n_j|^2 |n_k|^2 no usable corner.
 //    Exactly opposite planes give the projection onto their common plane.
-//  - Non-finite v or normal in a lane: that lane returns zero velocity, status invalid_input,
-//    lambda 0; other lanes are unaffected.
+//  - Non-finite v or normal in a lane, or a nonzero normal whose length is outside
+//    [2^-20, 2^20] (about 1e-6 to 1e6: the formulas multiply up to six lengths): that lane
+//    returns zero velocity, status invalid_input, lambda 0; other lanes are unaffected.
 //  - A lane that needs more than max_steps steps, or meets a configuration no candidate
 //    solves (degenerate, nearly parallel planes), returns zero velocity (always feasible)
 //    with converged = false.
@@ -98,7 +99,7 @@ struct GVelocityProjection {
   Vec velocity;            ///< the projected velocity u
   T steps;                 ///< planes added (0: v was already allowed); a small whole number
   mask_t<T> converged;     ///< no plane violated by more than epsilon at the returned u
-  mask_t<T> invalid_input; ///< v or a normal was not finite (velocity is zero)
+  mask_t<T> invalid_input; ///< v or a normal not finite, or a normal's length out of range
 };
 using VelocityProjection3 = GVelocityProjection<GVec3<float>>;
 using VelocityProjection2 = GVelocityProjection<GVec2<float>>;
@@ -108,20 +109,27 @@ namespace detail {
 template <class Vec>
 using vp_elem = typename Vec::element_type;
 
-/// Sum over all normals of (c - c) for every component: zero iff every value is finite.
+/// The lanes whose input the algorithm takes: v finite, and every normal zero or of a length
+/// in [2^-20, 2^20] (the candidates' Gram determinants multiply up to six lengths, which
+/// must neither overflow nor underflow). A non-finite component fails both tests.
 template <class Vec>
-PLUME_INLINE mask_t<vp_elem<Vec>> all_finite(Vec const& v, std::span<Vec const> normals) noexcept {
+PLUME_INLINE mask_t<vp_elem<Vec>> usable_input(Vec const& v,
+                                               std::span<Vec const> normals) noexcept {
   using T = vp_elem<Vec>;
-  auto const fin = [](Vec const& a) {
-    if constexpr (Vec::dim == 3)
-      return ((a.x - a.x) + (a.y - a.y)) + (a.z - a.z);
-    else
-      return (a.x - a.x) + (a.y - a.y);
-  };
-  T acc = fin(v);
-  for (Vec const& n : normals)
-    acc = acc + fin(n);
-  return acc == zero<T>();
+  T const lo = splat<T>(0x1p-40), hi = splat<T>(0x1p40), zero = plume::zero<T>();
+  T v_fin = v.x - v.x;
+  if constexpr (Vec::dim == 3)
+    v_fin = (v_fin + (v.y - v.y)) + (v.z - v.z);
+  else
+    v_fin = v_fin + (v.y - v.y);
+  mask_t<T> ok = v_fin == zero;
+  for (Vec const& n : normals) {
+    T const l2 = n.dot(n);
+    mask_t<T> is_zero = (n.x == zero) & (n.y == zero);
+    if constexpr (Vec::dim == 3) is_zero = is_zero & (n.z == zero);
+    ok = ok & (is_zero | ((l2 >= lo) & (l2 <= hi)));
+  }
+  return ok;
 }
 
 /// The smallest n_i . u, its normal and (WithIndex) its index as T: the first index that
@@ -501,7 +509,7 @@ nstep_project(Vec const& v, std::span<Vec const> normals, std::span<vp_elem<Vec>
   using T = vp_elem<Vec>;
   nstep_tolerances<T> const tol(cfg);
   T const zero = plume::zero<T>(), none_index = splat<T>(-1);
-  mask_t<T> const finite = detail::all_finite(v, normals);
+  mask_t<T> const finite = detail::usable_input(v, normals);
   nstep_state<Vec> s{.u = Vec::select(finite, v, Vec{}),
                      .a = Vec{},
                      .b = Vec{},
@@ -615,7 +623,7 @@ project_velocity_bruteforce(GVec3<T> const& v,
   using M = mask_t<T>;
   T const neg_eps = -splat<T>(cfg.epsilon);
   T const par = splat<T>(cfg.parallel_epsilon);
-  M const finite = detail::all_finite(v, normals);
+  M const finite = detail::usable_input(v, normals);
   M const inside = detail::allowed(v, normals, neg_eps);
   V best{};
   T best_d = infinity<T>();
@@ -645,7 +653,7 @@ project_velocity_bruteforce(GVec2<T> const& v,
   using V = GVec2<T>;
   using M = mask_t<T>;
   T const neg_eps = -splat<T>(cfg.epsilon);
-  M const finite = detail::all_finite(v, normals);
+  M const finite = detail::usable_input(v, normals);
   M const inside = detail::allowed(v, normals, neg_eps);
   V best{};
   T best_d = infinity<T>();

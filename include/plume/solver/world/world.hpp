@@ -36,10 +36,10 @@
 // empty or on a dynamic body (BodyError; the world is unchanged). Setters reject non-finite
 // values the same way. A dynamic body whose state turns non-finite during a step (absurd
 // velocities) is put back where the step began, stopped and frozen: it then acts as a static
-// body, and frozen_bodies() reports it. step() ignores dt <= 0 or non-finite. Accessors taking
-// a BodyId throw std::out_of_range for an id that names no live body (never created, or
-// destroyed: ids carry a generation); setters and destroy_body() return BodyError::bad_body
-// instead.
+// body, and frozen_bodies() reports it. step() ignores dt outside [min_dt, max_dt] = [1e-6 s, 60
+// s]. Accessors taking a BodyId throw std::out_of_range for an id that names no live body (never
+// created, or destroyed: ids carry a generation); setters and destroy_body() return
+// BodyError::bad_body instead.
 //
 // Out of scope for this version (named, not stubbed): sleeping (every dynamic body is
 // simulated each step; a per-body flag would slot in where frozen bodies are skipped) and
@@ -511,7 +511,15 @@ public:
   std::span<BodyId const> frozen_bodies() const noexcept { return frozen_; }
   bool is_frozen(BodyId id) const { return body(id).frozen; }
 
-  /// Advances dt seconds with the widest batch the build has.
+  /// The shortest step taken (s): the solver divides by the substep, and below this its
+  /// rates (impulse / h, error / h) leave any meaningful range; step() ignores a shorter dt.
+  static constexpr float min_dt = 1e-6f;
+  /// The longest step taken (s): a longer dt is a caller's bug (milliseconds passed as
+  /// seconds, a paused clock), and one of 1e30 s carries bodies where distances overflow.
+  static constexpr float max_dt = 60.0f;
+
+  /// Advances dt seconds with the widest batch the build has. Ignores dt outside
+  /// [min_dt, max_dt] (zero, negative, NaN and infinite included): the world is unchanged.
   void step(float dt);
   /// Advances dt seconds solving lanes_v<T> constraints at a time; T one of float, f32x4,
   /// f32x8, f32x16 that the build enables. Bitwise the same result for every T.
