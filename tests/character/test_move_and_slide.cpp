@@ -94,6 +94,24 @@ Vec3 dir(float degrees) { // a horizontal unit direction, degrees from +x toward
 
 } // namespace
 
+TEST_CASE("move and slide: a zero sweep ends the loop whatever min_sweep", "[character][move]") {
+  // With min_sweep <= 0 a standing character's zero sweep was counted as a sweep that cast
+  // nothing (found by the move_and_slide fuzz target: sweeps != casts).
+  World w;
+  add_box(w, {3, 0, 0}, {0.5f, 5, 5});
+  WorldMoveQuery const scene(w);
+  for (float min_sweep : {0.0f, -1.0f, 1e-4f}) {
+    INFO("min_sweep " << min_sweep);
+    MoveAndSlideConfig cfg;
+    cfg.min_sweep = min_sweep;
+    auto const still = move_and_slide(scene, capsule, Iso3{}, Vec3{}, dt, cfg);
+    CHECK(still.sweeps == 0);
+    CHECK(still.position.length() == 0.0f);
+    auto const moving = move_and_slide(scene, capsule, Iso3{}, Vec3{1, 0, 0}, dt, cfg);
+    CHECK(moving.sweeps == 1);
+  }
+}
+
 TEST_CASE("move and slide: head-on into a wall stops at the skin and does not creep",
           "[character][move]") {
   World w;

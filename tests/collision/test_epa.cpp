@@ -163,6 +163,20 @@ TEST_CASE("penetration: closed forms, rounded shapes, fallbacks, bad input", "[c
   auto const bad = penetration(Sphere{1}, Iso3::from_translation({nan, 0, 0}), box, Iso3{});
   CHECK(bad.status == PenetrationStatus::failed);
   CHECK(std::isnan(bad.depth));
+  // Cores that form a segment, the centre direction along it: the normal is a direction
+  // perpendicular to the segment, unit (found by the penetration fuzz target: it was built
+  // from the segment's unnormalised direction, of length 6.08 there).
+  for (float h : {0.5f, 3.04f, 40.0f}) {
+    for (Vec3 const axis_at : {Vec3{0, 0.3f, 0}, Vec3{0, -0.1f, 0}}) {
+      INFO("half height " << h << ", sphere at y " << axis_at.y);
+      auto const seg =
+          penetration(Capsule{h, 0.2f}, Iso3{}, Sphere{0.1f}, Iso3::from_translation(axis_at));
+      CHECK(seg.status == PenetrationStatus::penetrating);
+      CHECK(std::abs(seg.normal.length() - 1.0f) <= 1e-6f);
+      CHECK(std::abs(seg.normal.y) <= 1e-6f); // across the segment
+      CHECK(seg.depth == Approx(0.3f).margin(1e-5));
+    }
+  }
   // A NaN shape parameter, overlapping or not (found by the penetration fuzz target: a NaN
   // triangle vertex that support never picks).
   Triangle const nan_tri{{-5, 0, -5}, {5, 0, -5}, {nan, 0, 5}};

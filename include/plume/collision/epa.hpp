@@ -270,7 +270,7 @@ epa_seed<S> initial_tetrahedron(Diff const& diff, GVec3<S> const& centre_dir,
     seed.flat_normal = centre_dir.length_squared() > S(0) ? centre_dir.normalize() : GVec3<S>::Y;
     return seed;
   }
-  GVec3<S> const u = line.any_orthonormal_vector();
+  GVec3<S> const u = line.normalize().any_orthonormal_vector(); // (it needs a unit vector)
   auto const [p2, dist] = farthest_from_line(diff, ext[i0].p, line, u);
   if (dist <= tiny) { // D is a segment
     GVec3<S> const lu = line.normalize();

@@ -172,7 +172,8 @@ struct HeightFieldBuildResult {
 
 template <class F>
 void HeightField::visit_cells(Aabb3 const& box, F&& f) const {
-  if (levels_.empty() || !bool(box.is_valid())) return;
+  // Every box with min <= max (NaN fails) walks, infinite ones too, as TriangleMesh's.
+  if (levels_.empty() || !bool(box.min.cmple(box.max).all())) return;
   struct entry {
     std::uint32_t level, bx, bz;
   };

@@ -166,7 +166,7 @@ struct MoveAndSlideConfig {
   float plane_distance = 0.02f; ///< contacts are reported within this (2 x skin)
   /// A contact clips the velocity only when touched: separation <= skin + touch_tolerance.
   float touch_tolerance = 0.001f;
-  float min_sweep = 1e-4f; ///< sweeps shorter than this end the loop, length units
+  float min_sweep = 1e-4f; ///< sweeps shorter than this (or zero) end the loop, length units
   float max_move = 100.0f; ///< longest sweep, length units (huge dt is capped)
   /// Planes added at every iteration (unit normals, e.g. an invisible floor); not copied:
   /// the span must outlive the call.
@@ -434,7 +434,8 @@ struct MoveAndSlideRun {
       sweep = (v / m).normalize() * cfg.max_move;
       len = cfg.max_move;
     }
-    if (!(len >= cfg.min_sweep)) return looping = false;
+    // (A zero sweep ends it too, whatever min_sweep: a min_sweep <= 0 would cast nothing.)
+    if (!(len >= cfg.min_sweep) || !(len > 0.0f)) return looping = false;
     if (len > cfg.max_move) {
       sweep = sweep * (cfg.max_move / len);
       len = cfg.max_move;
