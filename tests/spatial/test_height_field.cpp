@@ -20,6 +20,15 @@ using namespace plume::test;
 
 namespace {
 
+/// The triangles a box query visits, sorted.
+template <class Mesh>
+std::vector<std::uint32_t> boxed(Mesh const& mesh, Aabb3 const& box) {
+  std::vector<std::uint32_t> out;
+  mesh.query_aabb(box, [&](std::uint32_t t) { out.push_back(t); });
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
 constexpr float inf = std::numeric_limits<float>::infinity();
 constexpr float qnan = std::numeric_limits<float>::quiet_NaN();
 
@@ -113,12 +122,7 @@ TEST_CASE("height field: rays, boxes and closest points are the mesh's, bit for 
     Vec3 const c{x(g), 2.0f * u(g), z(g)};
     Vec3 const half{std::abs(u(g)), std::abs(u(g)) * 0.5f, std::abs(u(g))};
     Aabb3 const box{c - half, c + half};
-    std::vector<std::uint32_t> a, b;
-    f.query_aabb(box, [&](std::uint32_t t) { a.push_back(t); });
-    m.query_aabb(box, [&](std::uint32_t t) { b.push_back(t); });
-    std::sort(a.begin(), a.end());
-    std::sort(b.begin(), b.end());
-    REQUIRE(a == b);
+    REQUIRE(boxed(f, box) == boxed(m, box));
     Vec3 const p{x(g), 3.0f * u(g), z(g)};
     float const reach = k % 5 == 0 ? inf : 1.5f;
     MeshClosestPoint const ca = f.closest_point(p, reach), cb = m.closest_point(p, reach);
@@ -133,12 +137,8 @@ TEST_CASE("height field: rays, boxes and closest points are the mesh's, bit for 
   float const nan = std::numeric_limits<float>::quiet_NaN();
   for (Aabb3 const& box : {Aabb3{Vec3::splat(-inf), Vec3::splat(inf)},
                            Aabb3{{-inf, -1, 0}, {1, inf, 2}}, Aabb3{{nan, 0, 0}, {1, 1, 1}}}) {
-    std::vector<std::uint32_t> a, b;
-    f.query_aabb(box, [&](std::uint32_t t) { a.push_back(t); });
-    m.query_aabb(box, [&](std::uint32_t t) { b.push_back(t); });
-    std::sort(a.begin(), a.end());
-    std::sort(b.begin(), b.end());
-    CHECK(a == b);
+    std::vector<std::uint32_t> const a = boxed(f, box);
+    CHECK(a == boxed(m, box));
     if (std::isnan(box.min.x)) CHECK(a.empty());
   }
   std::size_t all = 0;

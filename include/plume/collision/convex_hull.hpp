@@ -64,10 +64,10 @@ struct GConvexPolytope {
   /// Lanes whose points are all finite (one pass over them; the queries report the others as
   /// failed: support never picks a point whose dot product is NaN).
   mask_t<T> is_finite() const noexcept {
-    T acc = zero<T>();
+    mask_t<T> ok = all_lanes<T>();
     for (auto const& p : points)
-      acc = acc + (((p.x - p.x) + (p.y - p.y)) + (p.z - p.z));
-    return acc == zero<T>();
+      ok = ok & p.is_finite();
+    return ok;
   }
   GAabb3<T> local_aabb() const noexcept {
     if (points.empty()) return {};

@@ -261,13 +261,12 @@ PLUME_INLINE GRayHit<T> with_normal(pre_hit<T> const& h, GVec3<T> const& n, T fe
           plume::select(surface, feature, -one<T>())};
 }
 
-/// n made unit where `needed`, for an n that is already unit up to the rounding of the hit
-/// point it came from (p / r): one Newton step n (3 - n . n) / 2, which leaves |n| within
-/// 1.5 e^2 of 1 for |n| = 1 + e, on the lanes where |n . n - 1| <= sqrt(eps) (e below
-/// 1.7e-4 in float: the step's error is then below eps / 2); the other needed lanes (a small
-/// shape far from the origin, whose hit point's rounding is a fraction of its size) take
-/// n / |n|, computed only when a lane needs it. Not a division and a square root per hit:
-/// those cost the closed-form sphere cast a third of its speed (docs/performance.md).
+/// n made unit on the `needed` lanes, for an n that is unit up to the rounding of the hit
+/// point it came from (p / r). Where |n . n - 1| <= sqrt(eps): one Newton step
+/// n (3 - n . n) / 2 (for |n| = 1 + e it leaves |n| within 1.5 e^2 of 1, below eps / 2).
+/// Elsewhere (a small shape far from the origin, whose hit point's rounding is a fraction of
+/// its size): n / |n|, zero where that is not finite. Lane-exact: the second form is taken
+/// per lane, computed only when some lane needs it.
 template <Real T>
 PLUME_INLINE GVec3<T> unit_normal(GVec3<T> const& n, mask_t<T> needed) noexcept {
   T const l2 = n.dot(n);

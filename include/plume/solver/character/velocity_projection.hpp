@@ -117,12 +117,7 @@ PLUME_INLINE mask_t<vp_elem<Vec>> usable_input(Vec const& v,
                                                std::span<Vec const> normals) noexcept {
   using T = vp_elem<Vec>;
   T const lo = splat<T>(0x1p-40), hi = splat<T>(0x1p40), zero = plume::zero<T>();
-  T v_fin = v.x - v.x;
-  if constexpr (Vec::dim == 3)
-    v_fin = (v_fin + (v.y - v.y)) + (v.z - v.z);
-  else
-    v_fin = v_fin + (v.y - v.y);
-  mask_t<T> ok = v_fin == zero;
+  mask_t<T> ok = v.is_finite();
   for (Vec const& n : normals) {
     T const l2 = n.dot(n);
     mask_t<T> is_zero = (n.x == zero) & (n.y == zero);
