@@ -141,7 +141,16 @@ MeshBuildResult TriangleMesh::build(std::span<Vec3 const> vertices,
     Triangle const tri{vertices[id[0]], vertices[id[1]], vertices[id[2]]};
     Vec3 const sn = tri.scaled_normal();
     float const len2 = sn.length_squared();
-    if (!(len2 >= std::numeric_limits<float>::min())) {
+    bool has_area = len2 >= std::numeric_limits<float>::min();
+    if (!std::isfinite(len2)) {
+      // The float cross product overflowed (inf, or inf - inf): the area decides in double,
+      // where it cannot (a field of 1.7e37 m cells lost a triangle here).
+      DVec3 const da{tri.a.x, tri.a.y, tri.a.z}, db{tri.b.x, tri.b.y, tri.b.z},
+          dc{tri.c.x, tri.c.y, tri.c.z};
+      DVec3 const dn = (db - da).cross(dc - da);
+      has_area = dn.dot(dn) >= double(std::numeric_limits<float>::min());
+    }
+    if (!has_area) {
       ++r.degenerate;
       continue;
     }

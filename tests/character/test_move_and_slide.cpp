@@ -717,6 +717,52 @@ TEST_CASE("move and slide: cast_move and intersections on their own, bad input",
   CHECK(found == 1);
 }
 
+TEST_CASE("cast providers give a unit normal when the cores overlap at the start",
+          "[character][move][fuzz]") {
+  // The capsule's core segment inside a box: the shape cast has no normal there (its contract:
+  // zero), and the providers used to pass it on as the hit normal (a fuzz finding,
+  // move_and_slide regress-sweep-hit-zero-normal). The contact manifold's normal (+x, the
+  // nearest face) takes its place; a motion out of the box ignores the start.
+  std::vector<Collider> const level = {{Cuboid{Vec3{1, 1, 1}}, Iso3{}}};
+  ColliderSetQuery<Capsule> const set(level);
+  World w;
+  add_box(w, {0, 0, 0}, {1, 1, 1});
+  WorldMoveQuery const world(w);
+  Iso3 const inside = Iso3::from_translation({0.6f, 0, 0});
+  Vec3 const in{-1, 0, 0}, out{1, 0, 0}, along{0, 0, 1};
+  auto const a = set.cast(capsule, inside, in, {});
+  auto const b = world.cast(BodyShape{capsule}, inside, in, {});
+  REQUIRE(a);
+  REQUIRE(b);
+  CHECK(a->toi == 0.0f);
+  CHECK(b->toi == 0.0f);
+  CHECK(a->normal.distance(Vec3{1, 0, 0}) <= 1e-5f);
+  CHECK(b->normal.distance(Vec3{1, 0, 0}) <= 1e-5f);
+  CHECK(a->point.x == Approx(1.0f).margin(1e-5));
+  CHECK(!set.cast(capsule, inside, out, {}));
+  CHECK(!world.cast(BodyShape{capsule}, inside, out, {}));
+  CHECK(!set.cast(capsule, inside, along, {}));
+  CHECK(!world.cast(BodyShape{capsule}, inside, along, {}));
+  // The batch cast gives each lane what cast() gives.
+  std::vector<BodyShape> const shapes(3, BodyShape{capsule});
+  std::vector<Iso3> const poses(3, inside);
+  std::vector<Vec3> const motions{in, out, along};
+  std::vector<std::optional<MoveCastHit<BodyId>>> lanes(3);
+  world.cast_lanes(shapes, poses, motions, {}, lanes);
+  REQUIRE(lanes[0]);
+  CHECK(lanes[0]->normal.distance(b->normal) == 0.0f);
+  CHECK(!lanes[1]);
+  CHECK(!lanes[2]);
+  // A second box the motion runs into after leaving the first: found past the ignored start.
+  World two;
+  add_box(two, {0, 0, 0}, {1, 1, 1});
+  BodyId const far = add_box(two, {5, 0, 0}, {1, 1, 1});
+  auto const next = WorldMoveQuery(two).cast(BodyShape{capsule}, inside, Vec3{5, 0, 0}, {});
+  REQUIRE(next);
+  CHECK(next->collider == far);
+  CHECK(next->normal.distance(Vec3{-1, 0, 0}) <= 1e-5f);
+}
+
 TEST_CASE("move and slide: config scaled to centimetres gives the same path, scaled",
           "[character][move]") {
   World m, cm;

@@ -229,3 +229,30 @@ TEST_CASE("penetration: a flat difference's normal points from A toward B", "[co
     CHECK(q.normal.y == Approx(-side).margin(1e-6));
   }
 }
+
+TEST_CASE("penetration: witness points stay on the shapes when two faces tie for nearest",
+          "[collision][epa][fuzz]") {
+  // EPA's nearest face here has a coplanar neighbour as near, and the origin projects into the
+  // neighbour: the chosen face's weights were negative and point_b was extrapolated 0.33
+  // outside B (a fuzz finding, penetration regress-epa-points-outside).
+  ConvexHull const a = hull_of(std::vector<Vec3>{{0x1.8p+0f, 0x1.37fb38p-2f, 0x1.8p+0f},
+                                                 {0x1.8p+0f, -0x1.771af8p+0f, -0x1.4cedccp+0f},
+                                                 {-0x1.8p+0f, -0x1.8p+0f, -0x1.8p+0f},
+                                                 {-0x1.8p+0f, 0x1.7ffdp+0f, -0x1.7d02fep+0f},
+                                                 {-0x1.8p+0f, 0x1.8p+0f, 0x1.8p+0f},
+                                                 {0x1.8p+0f, -0x1.8p+0f, -0x1.8p+0f},
+                                                 {0x1.7d02fcp+0f, -0x1.7d02fep+0f, -0x1.8p+0f},
+                                                 {0x1.6502e4p+0f, -0x1.79f9fap+0f, -0x1.8p+0f}});
+  ConvexHull const b = hull_of(std::vector<Vec3>{{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}});
+  Iso3 const pose{Quat{-0.5f, -0.5f, -0.5f, -0.5f}, {-4, -4, -4}};
+  auto const r = penetration(a, pose, b, pose);
+  REQUIRE(r.status == PenetrationStatus::penetrating);
+  CHECK(r.depth == Approx(1.4433756).margin(1e-4));
+  // Each point inside its hull (every face plane, local frame) and the pair depth * normal
+  // apart.
+  for (auto const& f : a.faces())
+    CHECK(f.normal.dot(pose.inverse_transform_point(r.point_a)) - f.offset <= 1e-4f);
+  for (auto const& f : b.faces())
+    CHECK(f.normal.dot(pose.inverse_transform_point(r.point_b)) - f.offset <= 1e-4f);
+  CHECK(((r.point_b - r.point_a) + r.normal * r.depth).length() <= 1e-4f);
+}

@@ -699,6 +699,102 @@ TEST_CASE("GJK family: far coordinates, degenerate shapes, starting on the surfa
   CHECK(!ray_cast_gjk(box, here, Ray3{{-5, 1.001f, 0}, {1, 0, 0}}, 10.0f).hit);
 }
 
+// Inputs the fuzz targets found (tests/fuzz/corpus: gjk_distance and shape_cast
+// regress-*). Each failed before its fix.
+TEST_CASE("GJK steps float cannot resolve do not end the query", "[collision][gjk][fuzz]") {
+  // A point 4.9e-4 from a polytope whose nearest edge runs 0.25 and 1.75 from it: from the
+  // edge next to it (1.9e-3 away), the step to the right one is a long, thin triangle whose
+  // gain is below the projection's rounding, and GJK used to stop there, converged, at a
+  // distance 4x too large. Exact distance (double, every triangle of the points): 4.928515e-4.
+  Quat const q{-0.5f, -0.5f, -0.5f, -0.5f};
+  Iso3 const pose{q, {-4, -4, -4}};
+  std::vector<Vec3> const pts{{0x1.030308p-2f, -0x1.7b40fcp+0f, -0x1.7ffb8p-2f},
+                              {0x1.00f3p-2f, 0x1.030308p-2f, 0x1.030308p-2f},
+                              {0x1.030308p-2f, 0x1.030308p-2f, 0x1.030308p-2f},
+                              {0x1.f8p-12f, 0x1.8p+0f, -0x1.7f28p+0f},
+                              {-0x1.7bdffcp+0f, -0x1.8p+0f, -0x1.8p+0f},
+                              {0x1.7ffdp+0f, -0x1.7dc2fep+0f, -0x1.8p+0f}};
+  ConvexPolytope const poly{pts};
+  auto const ab = closest_points(poly, pose, Sphere{0}, pose, GjkConfig{}, Vec3{-1, -1, -1});
+  auto const ba = closest_points(Sphere{0}, pose, poly, pose);
+  CHECK(ab.converged);
+  CHECK(ba.converged);
+  CHECK(ab.distance == Approx(4.928515e-4).margin(2e-6));
+  CHECK(ba.distance == Approx(4.928515e-4).margin(2e-6));
+
+  // The same rule in the cast: a hollow cast's back cast (from beyond the hull toward the
+  // start) stalled and counted as a hit, and the exit came 1.2e-3 late, 2.3e-3 outside the
+  // hull (ray_cast regress-gjk-hollow-exit-late).
+  ConvexHull const hull = hull_of(std::vector<Vec3>{{0x1.8p+0f, 0x1.8p+0f, 0x1.8p+0f},
+                                                    {-0x1.7d02fep+0f, -0x1.8p+0f, 0x1.da04d8p-1f},
+                                                    {-0x1.7d02fep+0f, -0x1.8p+0f, -0x1.8p+0f},
+                                                    {-0x1.8p+0f, -0x1.8p+0f, -0x1.8p+0f}});
+  Iso3 const hp{{-0x1.00287ep-1f, -0x1.00287ep-1f, -0x1.ff0cc6p-2f, -0x1.00287ep-1f}, {-4, -4, -4}};
+  Ray3 const ray{{-0x1.094e1ep+2f, -0x1.2faca2p+2f, -0x1.2fedfcp+2f}, {-2, -2, -2}};
+  RayHit const exit = ray_cast_gjk(hull, hp, ray, std::numeric_limits<float>::infinity(), false);
+  REQUIRE(exit.hit);
+  Vec3 const at = hp.inverse_transform_point(ray.at(exit.toi));
+  float worst = -1e30f;
+  for (auto const& f : hull.faces())
+    worst = std::max(worst, f.normal.dot(at) - f.offset);
+  CHECK(std::abs(worst) <= 2e-5f); // on the surface
+}
+
+TEST_CASE("shape casts report contact points on their shapes and the contact normal",
+          "[collision][gjk][cast][fuzz]") {
+  // A point cast into a cylinder: the last simplex is a sliver triangle 7 units from the ray
+  // point, whose barycentric weights (from cross products of the long vectors) summed to
+  // 1 - 8e-4 and put point_a 5e-3 off the point.
+  Iso3 const pa{{0x1.027d2ep-1f, 0x1.027d2ep-1f, -0x1.027b2ap-1f, -0x1.f0c882p-2f}, {4, 4, 4}};
+  Iso3 const pb{{-0x1.d448b4p-2f, -0x1.06df2ap-1f, -0x1.06e344p-1f, -0x1.06e344p-1f}, {-4, -4, -4}};
+  Vec3 const motion{-8, -8, -8};
+  auto const c = shape_cast(Sphere{0}, pa, motion, Cylinder{0x1.fe03fep+0f, 0x1.8p+0f}, pb);
+  REQUIRE(c.hit);
+  REQUIRE(c.converged);
+  Vec3 const at = pa.translation + motion * c.toi;
+  CHECK((c.point_a - at).length() <= 1e-5f);
+  CHECK((c.point_b - c.point_a).length() <= 1e-4f);
+
+  // A capsule grazing a sphere: the normal was the last advance direction, 2.4e-3 rad off the
+  // direction between the shapes at the time of impact (3e-3 off for the contact points).
+  Capsule const cap{0x1.0001p-1f, 0x1.333134p-2f};
+  Sphere const ball{0x1.0001p+0f};
+  Iso3 const pc{{-0x1.3a076cp-2f, -0x1.7ea478p-3f, -0x1.d48adp-1f, 0x1.7765bcp-3f},
+                {0x1p-14f, -0x1.fc1bfcp+1f, -0x1.ff8p+1f}};
+  Iso3 const ps{{-0x1.271f1ap-1f, -0x1.26a29ap-1f, -0x1.25f7fap-1f, 0x1.55468ep-4f},
+                {0x1p-14f, 0x1.ff02p-6f, -0x1.57f558p+0f}};
+  Vec3 const m2{-0x1.fc1bfcp-2f, 0x1.2019p+2f, 0x1.6867a8p+1f};
+  ShapeCastConfig cfg;
+  cfg.max_toi = 2;
+  auto const g = shape_cast(cap, pc, m2, ball, ps, cfg);
+  REQUIRE(g.hit);
+  REQUIRE(g.converged);
+  auto const there = closest_points(cap, Iso3{pc.rotation, pc.translation + m2 * g.toi}, ball, ps);
+  REQUIRE(there.converged);
+  CHECK(there.distance <= 2e-5f);
+  CHECK(g.normal.dot(there.normal) >= std::cos(1e-4f));
+  CHECK((g.point_b - g.point_a).length() <= 1e-4f);
+}
+
+TEST_CASE("GJK fails coordinates whose squares overflow", "[collision][gjk][fuzz]") {
+  // 1.5e29 away: |v|^2 overflowed, the cast saw "within reach" and hit at 0.
+  Iso3 const far = Iso3::from_translation({0, 1.5e29f, 0});
+  Triangle const tri{{0, -1, 0}, {0, 0.5f, 1}, {1, 0, 0}};
+  auto const c =
+      shape_cast(Sphere{0}, Iso3::from_translation({-12, -12, -12}), Vec3{-24, -24, -24}, tri, far);
+  CHECK(c.failed);
+  CHECK(!c.hit);
+  auto const d = closest_points(Sphere{0}, Iso3{}, tri, far);
+  CHECK(d.failed);
+  auto const r = ray_cast_gjk(tri, far, Ray3{{0, 0, 0}, {0, 1, 0}}, 1e30f);
+  CHECK(!r.hit);
+  // 1e18 is still a query float can answer (its squares are 1e36).
+  auto const ok =
+      closest_points(Sphere{0}, Iso3{}, Sphere{1}, Iso3::from_translation({0, 1e18f, 0}));
+  CHECK(!ok.failed);
+  CHECK(ok.distance == Approx(1e18f));
+}
+
 PLUME_WIDE_TEST_CASE("GJK queries are lane-exact", "[collision][gjk][lanes]", wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;

@@ -464,3 +464,28 @@ TEST_CASE("configs: scaled() multiplies the length-valued fields only", "[collis
   // The original is unchanged (a const member function returning a copy).
   CHECK(manifold.prediction == 0.03f);
 }
+
+TEST_CASE("manifold: degenerate boxes and flat differences give points on both shapes",
+          "[collision][manifold][fuzz]") {
+  Iso3 const pose{Quat{-0.5f, -0.5f, -0.5f, -0.5f}, {-4, -4, -4}};
+  // A capsule's core through a box of zero extents (a point): the clip against the box's face,
+  // which has no area, kept the whole segment, and the points lay 1 m from the box (a fuzz
+  // finding, contact_manifold regress-degenerate-face-clip). Now: one point, on the box.
+  Manifold const m = contact_manifold(Capsule{0x1.02cd02p+0f, 0}, pose, Cuboid{Vec3{0, 0, 0}}, pose,
+                                      ManifoldConfig{});
+  REQUIRE(m.count >= 1);
+  for (auto const& c : m) {
+    CHECK((c.point_b - pose.translation).length() <= 1e-5f);
+    CHECK(((c.point_b - c.point_a) - m.normal * c.separation).length() <= 1e-5f);
+  }
+  // A sphere whose centre lies on a box flattened to a segment: EPA's flat fallback put the
+  // box's point at a vertex of the segment, 0.67 from the sphere's (a fuzz finding,
+  // contact_manifold regress-flat-fallback-points). Now where GJK found the cores meeting.
+  Manifold const f = contact_manifold(Sphere{0x1.80018p+0f}, pose,
+                                      Cuboid{Vec3{0, 0, 0x1.555556p-1f}}, pose, ManifoldConfig{});
+  REQUIRE(f.count == 1);
+  CHECK(f.begin()->separation == Approx(-0x1.80018p+0f).margin(1e-5));
+  CHECK(((f.begin()->point_b - f.begin()->point_a) - f.normal * f.begin()->separation).length() <=
+        1e-5f);
+  CHECK((f.begin()->point_b - pose.translation).length() <= 1e-5f);
+}

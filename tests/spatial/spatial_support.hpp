@@ -80,9 +80,13 @@ bool slab_oracle(GVec3<S> const& o, GVec3<S> const& d, GAabb3<S> const& b, S max
       if (oo[i] < lo[i] || oo[i] > hi[i]) return false;
       continue;
     }
-    S const inv = S(1) / dd[i];
-    S t1 = (lo[i] - oo[i]) * inv, t2 = (hi[i] - oo[i]) * inv;
-    if (dd[i] < S(0)) std::swap(t1, t2);
+    // Exits with |1/d| enlarged by 2^-20, as the tree's test (conservative exits).
+    S const inv = S(1) / dd[i], inv_far = inv * (S(1) + S(0x1p-20));
+    S t1 = (lo[i] - oo[i]) * inv, t2 = (hi[i] - oo[i]) * inv_far;
+    if (dd[i] < S(0)) {
+      t1 = (hi[i] - oo[i]) * inv;
+      t2 = (lo[i] - oo[i]) * inv_far;
+    }
     if (t1 == t1 && t1 > tn) tn = t1;
     if (t2 == t2 && t2 < tf) tf = t2;
   }

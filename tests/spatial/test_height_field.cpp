@@ -93,6 +93,20 @@ TEST_CASE("height field: triangles, normals and edges are the mesh's", "[spatial
   }
 }
 
+TEST_CASE("height field: cells whose cross products overflow float are the mesh's too",
+          "[spatial][heightfield][fuzz]") {
+  // Cells of 1.7e37 m and a height of -7.7e8: a float cross product of inf - inf, which the
+  // mesh took for a triangle without area and dropped (a fuzz finding, height_field
+  // regress-overflow-triangles-not-mesh); it now decides such triangles in double.
+  std::vector<float> h(10, 0.0f);
+  h[1] = -0x1.71e6p+29f;
+  auto const r = HeightField::build(5, 2, h, 0x1.e17b84p+122f, 0x1.e17b84p+122f);
+  REQUIRE(r.ok());
+  TriangleMesh const m = mesh_of(r.field); // requires the same triangle count
+  for (std::uint32_t t = 0; t < r.field.triangle_count(); ++t)
+    CHECK(same_bits(r.field.face_normal(t), m.face_normal(t)));
+}
+
 TEST_CASE("height field: rays, boxes and closest points are the mesh's, bit for bit",
           "[spatial][heightfield]") {
   HeightField const f = field_of(33, 40, 0.5f, 0.75f);

@@ -325,6 +325,57 @@ TEST_CASE("mesh_shape_cast equals the least cast over every triangle", "[spatial
   REQUIRE(hits > 100);
 }
 
+TEST_CASE("mesh_shape_cast with a target distance near float's range still finds triangles",
+          "[spatial][mesh][fuzz]") {
+  // A target distance of 3.26e38 grew the shape's box to +-inf, whose centre and rotated
+  // extents were NaN: no candidate, no hit, where every triangle is within reach at the start
+  // (a fuzz finding, triangle_mesh regress-huge-target-distance).
+  std::vector<Vec3> const v{{0, -1, 0}, {0, -1, 1}, {1, -0.5f, 0}};
+  std::vector<std::uint32_t> const i{0, 1, 2};
+  auto const built = TriangleMesh::build(v, i);
+  REQUIRE(built.ok());
+  Iso3 const mesh_at{Quat::from_rotation_z(0.4f), {-0.166f, -1.977f, -2}};
+  Iso3 const at = Iso3::from_translation({2.44f, -11.68f, -1.0f});
+  ShapeCastConfig cfg;
+  cfg.target_distance = 3.26e38f;
+  for (Vec3 const motion : {Vec3{}, Vec3{1, 2, 0}}) {
+    MeshShapeHit const got = mesh_shape_cast(built.mesh, mesh_at, Sphere{0}, at, motion, cfg);
+    MeshShapeHit const want = brute_cast(built.mesh, mesh_at, Sphere{0}, at, motion, cfg);
+    REQUIRE(want.hit());
+    CHECK(got.hit());
+    CHECK(got.triangle == want.triangle);
+    CHECK(got.toi == 0.0f);
+    CHECK(got.penetrating);
+  }
+}
+
+TEST_CASE("mesh_shape_cast agrees with brute force next to a triangle 3e11 long",
+          "[spatial][mesh][fuzz]") {
+  // With a vertex at 3e11, GJK's rounding floor near that triangle is 16 eps * 3e11 = 6e5: a
+  // sphere a few metres away is "in contact" at the start. The candidate boxes grew only by the
+  // floor of the poses, so the mesh skipped the triangle brute force hits (a fuzz finding,
+  // triangle_mesh regress-shape-cast-big-triangle); they now grow by the mesh's extent too.
+  std::vector<Vec3> const v{{-2, 3, 0.5f},
+                            {-0.5f, -2.5f, 1},
+                            {0x1.7500f8p+2f, 0x1.1e3c04p+38f, -0x1.3fcb8p+3f},
+                            {0, 3, -1},
+                            {0x1.86bd08p+2f, -0x1.5a93dap+2f, -0x1.2000ap+2f}};
+  std::vector<std::uint32_t> const i{0, 1, 2, 2, 3, 4};
+  auto const built = TriangleMesh::build(v, i);
+  REQUIRE(built.ok());
+  Iso3 const mesh_at = Iso3::from_translation({-2, -2, -2});
+  Iso3 const at = Iso3::from_translation({-0x1.9c5a9cp+2f, -0x1.1882p-5f, 0x1.60606p+2f});
+  Sphere const ball{0x1.d579d6p-2f};
+  Vec3 const motion{-24, -24, -24};
+  ShapeCastConfig cfg;
+  cfg.stop_at_penetration = false;
+  MeshShapeHit const want = brute_cast(built.mesh, mesh_at, ball, at, motion, cfg);
+  MeshShapeHit const got = mesh_shape_cast(built.mesh, mesh_at, ball, at, motion, cfg);
+  REQUIRE(want.hit());
+  CHECK(got.triangle == want.triangle);
+  CHECK(got.toi == want.toi);
+}
+
 TEST_CASE("mesh_shape_cast onto a flat grid, where many triangles tie, equals brute force",
           "[spatial][mesh]") {
   // Shapes falling onto a flat floor meet several coplanar triangles at once (over a vertex,

@@ -281,6 +281,24 @@ TEST_CASE("mesh build rejects bad input with its error", "[mesh][build]") {
   CHECK(std::string(to_string(MeshError::index_out_of_range)) == "index out of range");
 }
 
+TEST_CASE("mesh ray casts find a hit exactly at a corner", "[mesh][ray][fuzz]") {
+  // The ray reaches x = 0, y = -1, z = 0 (the corner of triangle 0 and its box) at t = 2
+  // exactly; the box's x exit, (0 - o.x) * (1 / d.x), rounded to just below 2 and the tree
+  // skipped a triangle the triangle test hits (a fuzz finding, triangle_mesh
+  // regress-mesh-ray-corner-miss). Exits are now computed conservatively.
+  std::vector<Vec3> const v{{0, -1, 0}, {0, -1, 1}, {1, -1, 0}, {1, -1, 1}};
+  std::vector<std::uint32_t> const i{0, 1, 2, 2, 1, 3};
+  auto const built = TriangleMesh::build(v, i);
+  REQUIRE(built.ok());
+  Ray3 const ray{{0x1.595cd8p+3f, -12, -12}, {-0x1.595cd8p+2f, 5.5f, 6}};
+  RayHit const direct = ray_cast_local(Triangle{v[0], v[1], v[2]}, ray, 1e30f);
+  REQUIRE(direct.hit);
+  MeshRayHit const h = built.mesh.ray_cast(ray, std::numeric_limits<float>::infinity());
+  REQUIRE(h.hit());
+  CHECK(h.toi == direct.toi);
+  CHECK(built.mesh.source_triangle(h.triangle) == 0);
+}
+
 TEST_CASE("mesh build drops and counts degenerate triangles", "[mesh][build]") {
   // Triangles: good, repeated vertex, collinear, good, tiny (|cross|^2 = 1e-24) but not degenerate.
   std::vector<Vec3> const v{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}, {1, 1, 0}, {0, 0, 1e-12f}};

@@ -17,7 +17,8 @@
 //  - Flat difference of the cores (two crossing segments, a triangle through a box face's
 //    plane, coincident sphere centres): no volume, so the core depth is 0 and the normal is
 //    the normal of the flat set (or, for a segment or a point, the direction between the
-//    shapes' centres, else +Y), oriented from A toward B. Status `penetrating`.
+//    shapes' centres, else +Y), oriented from A toward B; the points are where GJK found the
+//    cores meeting. Status `penetrating`.
 //  - The polytope is full or out of iterations: the best face found so far. Status
 //    `approximate` (the depth is a lower bound within the polytope's reach).
 //  - Non-finite input: status `failed`, NaN depth.
@@ -191,8 +192,7 @@ struct epa_seed {
   /// D flat: the normal of the flat set, unoriented; built: the normal of the plane of the
   /// first three vertices (the fallback if the expansion loses every face).
   GVec3<S> flat_normal;
-  simplex_vertex<S> anchor; ///< the first vertex: where a flat result puts its points
-  S scale;                  ///< the largest |vertex| along the axes: the size of D
+  S scale; ///< the largest |vertex| along the axes: the size of D
 };
 
 /// The vertices of D along +-X, +-Y, +-Z; the largest of their distances from the origin into
@@ -264,7 +264,6 @@ epa_seed<S> initial_tetrahedron(Diff const& diff, GVec3<S> const& centre_dir,
   std::array<simplex_vertex<S>, 6> const ext = axis_extremes(diff, seed.scale);
   S const tiny = S(64) * std::numeric_limits<S>::epsilon() * seed.scale;
   auto const [i0, i1] = farthest_pair(ext);
-  seed.anchor = ext[i0];
   GVec3<S> const line = ext[i1].p - ext[i0].p;
   if (line.length() <= tiny) { // D is a point: the cores coincide
     seed.flat_normal = centre_dir.length_squared() > S(0) ? centre_dir.normalize() : GVec3<S>::Y;
@@ -326,21 +325,50 @@ epa_outcome<S> expand(epa_polytope<S>& poly, Diff const& diff, S scale,
   return r;
 }
 
+/// The barycentric weights of point q (in face f's plane) over f's vertices.
+template <ScalarReal S>
+std::array<S, 3> face_weights(epa_polytope<S> const& poly, typename epa_polytope<S>::face const& f,
+                              GVec3<S> const& q) noexcept {
+  GVec3<S> const& p0 = poly.vert[std::size_t(f.v[0])].p;
+  GVec3<S> const& p1 = poly.vert[std::size_t(f.v[1])].p;
+  GVec3<S> const& p2 = poly.vert[std::size_t(f.v[2])].p;
+  GVec3<S> const n = (p1 - p0).cross(p2 - p0);
+  S const nn = n.length_squared();
+  S const l0 = (p1 - q).cross(p2 - q).dot(n) / nn;
+  S const l1 = (p2 - q).cross(p0 - q).dot(n) / nn;
+  return {l0, l1, S(1) - l0 - l1};
+}
+
 /// The origin's projection on face bf, in barycentric weights of its vertices, applied to
-/// their support points: the deepest points of A and B.
+/// their support points: the deepest points of A and B. When the projection falls outside bf
+/// (a coplanar neighbour as near as bf holds it: the polytope's faces there are one flat
+/// face of D split in triangles), the weights come from the live face of the same plane
+/// (within `slack` in distance, 1e-4 in normal) that holds it, so the points are convex
+/// combinations of support points (on A and B), not extrapolations past them.
 template <ScalarReal S>
 std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly,
-                                          typename epa_polytope<S>::face const& bf) noexcept {
-  auto const& v0 = poly.vert[std::size_t(bf.v[0])];
-  auto const& v1 = poly.vert[std::size_t(bf.v[1])];
-  auto const& v2 = poly.vert[std::size_t(bf.v[2])];
+                                          typename epa_polytope<S>::face const& bf,
+                                          S slack) noexcept {
   GVec3<S> const q = bf.n * bf.d;
-  GVec3<S> const n = (v1.p - v0.p).cross(v2.p - v0.p);
-  S const nn = n.length_squared();
-  S const l0 = (v1.p - q).cross(v2.p - q).dot(n) / nn;
-  S const l1 = (v2.p - q).cross(v0.p - q).dot(n) / nn;
-  S const l2 = S(1) - l0 - l1;
-  return {(v0.a * l0 + v1.a * l1) + v2.a * l2, (v0.b * l0 + v1.b * l1) + v2.b * l2};
+  auto const inside = [](std::array<S, 3> const& l) {
+    return l[0] >= S(0) && l[1] >= S(0) && l[2] >= S(0);
+  };
+  typename epa_polytope<S>::face f = bf;
+  std::array<S, 3> l = face_weights(poly, bf, q);
+  for (int k = 0; k < poly.nf && !inside(l); ++k) {
+    auto const& g = poly.faces[std::size_t(k)];
+    if (!g.alive || !(std::abs(g.d - bf.d) <= slack) || !(g.n.dot(bf.n) >= S(1) - S(1e-4)))
+      continue;
+    std::array<S, 3> const lg = face_weights(poly, g, q);
+    if (inside(lg)) {
+      f = g;
+      l = lg;
+    }
+  }
+  auto const& v0 = poly.vert[std::size_t(f.v[0])];
+  auto const& v1 = poly.vert[std::size_t(f.v[1])];
+  auto const& v2 = poly.vert[std::size_t(f.v[2])];
+  return {(v0.a * l[0] + v1.a * l[1]) + v2.a * l[2], (v0.b * l[0] + v1.b * l[1]) + v2.b * l[2]};
 }
 
 /// A penetration from GJK's answer (the shapes apart, or only their rounding radii
@@ -381,14 +409,19 @@ GPenetrationResult<S> penetration(A const& a, GIso3<S> const& pose_a, B const& b
   auto const flat_fallback = [&](detail::epa_seed<S> const& seed) {
     GVec3<S> n = seed.flat_normal;
     if (n.dot(centre_dir) < S(0)) n = -n;
-    return finish(S(0), n, seed.anchor.a, seed.anchor.b, PenetrationStatus::penetrating, 0);
+    // The points: where GJK found the cores meeting (a point of both), so that they are
+    // depth * normal apart once the radii are added (a support vertex of the flat set put a
+    // sphere's contact 0.67 off its partner).
+    return finish(S(0), n, g.point_a, g.point_b, PenetrationStatus::penetrating, 0);
   };
   detail::epa_polytope<S> poly;
   detail::epa_seed<S> const seed = detail::initial_tetrahedron(diff, centre_dir, poly);
   if (!seed.built) return flat_fallback(seed);
   detail::epa_outcome<S> const r = detail::expand(poly, diff, seed.scale, cfg);
   if (r.best_face < 0) return flat_fallback(seed);
-  auto const [pa, pb] = detail::face_points(poly, r.chosen);
+  S const slack =
+      std::max(S(cfg.tolerance), S(16) * std::numeric_limits<S>::epsilon() * seed.scale);
+  auto const [pa, pb] = detail::face_points(poly, r.chosen, slack);
   return finish(std::max(r.chosen.d, S(0)), r.chosen.n, pa, pb, r.status, r.iterations);
 }
 

@@ -22,8 +22,9 @@
 // relative stop is what makes some engines' casts millimetres short on 500 m boxes).
 //
 // Bad input: a non-finite pose, motion, ray or shape parameter gives `failed` in that lane
-// (NaN results, no hit), other lanes untouched. Every query stops after max_iterations and
-// says so. Cores that overlap (penetration deeper than the radii) are reported as overlap /
+// (NaN results, no hit), other lanes untouched; so do coordinates so large that their squares
+// overflow (beyond about 1e19 length units from the origin). Every query stops after max_iterations
+// and says so. Cores that overlap (penetration deeper than the radii) are reported as overlap /
 // penetrating with a zero normal: their depth and normal need EPA.
 //
 // Locals here and in detail/simplex.hpp are not const: simplex vertices, steps and the masks
@@ -79,9 +80,11 @@ struct GClosestPoints {
   /// The last search direction: pass it as `axis` to the next query on the same pair (warm
   /// start: a pair that moved a little converges in one or two iterations).
   GVec3<T> axis;
-  mask_t<T> overlap;   ///< the cores intersect
-  mask_t<T> converged; ///< false: stopped by max_iterations (or failed)
-  mask_t<T> failed;    ///< non-finite input
+  mask_t<T> overlap; ///< the cores intersect
+  /// false: stopped by max_iterations, or by steps that stopped getting closer while the
+  /// distance was not yet known to the tolerance (the result is then the best seen), or failed
+  mask_t<T> converged;
+  mask_t<T> failed; ///< non-finite input
   T iterations;
 };
 
@@ -97,7 +100,8 @@ struct GShapeCastHit {
   mask_t<T> converged; ///< a normal answer (hit or miss)
   mask_t<T>
       penetrating; ///< started within target_distance (toi 0); normal zero if the cores overlap
-  /// Stopped by the iteration cap: reported as a hit at a lower bound of the time of impact
+  /// Stopped by the iteration cap, or by steps that stopped getting closer while the gap was
+  /// above the tolerance: reported as a hit at a lower bound of the time of impact
   /// (conservative: it may be a miss, never a later hit); normal and points where it stopped.
   mask_t<T> out_of_iterations;
   mask_t<T> failed; ///< non-finite input: no hit
@@ -116,6 +120,9 @@ struct ShapeCastConfig {
 };
 
 namespace detail {
+
+/// GJK steps in a row that may fail to get closer before a query stops unconverged.
+inline constexpr int max_stalls = 4;
 
 /// A shape placed by a pose: world core support points.
 template <class Shape, Real T>
@@ -198,15 +205,18 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
   T d2_ref = infinity<T>(); // |v|^2 of the simplex at the current x (+inf: none yet)
   mask_t<T> active = !bad_input;
   mask_t<T> advanced_ever = no_lanes<T>();
+  T stalls = zero; // steps in a row that neither advanced x nor got closer to it
+  mask_t<T> gave_up = no_lanes<T>();
 
   for (int it = 0; it < cfg.max_iterations; ++it) {
     if (plume::none(active)) break;
     out.iterations = plume::select(active, out.iterations + one<T>(), out.iterations);
     simplex_vertex<T> w = minkowski_vertex(sa, sb, v);
-    mask_t<T> finite_step = finite3(w.p) & finite3(v);
-    mask_t<T> bad = !finite_step;
     GVec3<T> y = x - w.p;
     T vl = plume::sqrt(v.dot(v));
+    // (Squares that overflow: coordinates beyond about 1e19, which float cannot query.)
+    mask_t<T> bad =
+        !((finite3(w.p) & finite3(v)) & (plume::is_finite(vl) & plume::is_finite(y.dot(y))));
     T vy = v.dot(y);
     T vr = v.dot(r);
     mask_t<T> outside = vy > radius * vl;
@@ -231,10 +241,14 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
     T floor = floor_k * plume::sqrt(x.dot(x) + w.p.dot(w.p));
     T reach = radius + plume::max_select(tol, floor);
     mask_t<T> close = (nd2 <= reach * reach) | step.inside;
+    // A step that neither advances x nor gets closer to it: float could not resolve the gain
+    // (as in closest_points). Taken anyway; after max_stalls in a row the cast stops where x
+    // is, a lower bound of the time of impact, as at the iteration cap.
     mask_t<T> stalled = (!advance) & (nd2 >= d2_ref);
-    mask_t<T> done_hit = live & (close | stalled);
-    // Record the step where it is taken (or where it ends in a hit on a new simplex).
-    mask_t<T> take = live & (!stalled);
+    stalls = plume::select(stalled, stalls + one<T>(), plume::zero<T>());
+    mask_t<T> give_up = live & (((!close) & stalled) & (stalls >= splat<T>(S(max_stalls))));
+    mask_t<T> done_hit = live & close;
+    mask_t<T> take = live & (!give_up);
     auto const [pa, pb] = closest_points(s, w, step.lambda);
     out.pa = GVec3<T>::select(take, pa, out.pa);
     out.pb = GVec3<T>::select(take, pb, out.pb);
@@ -257,17 +271,24 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
     mask_t<T> inside_now = done_hit & (step.inside | on_core) & (!advanced_ever);
     out.cores_overlap = out.cores_overlap | inside_now;
     out.started_inside = out.started_inside | (done_hit & (!advanced_ever));
+    // A hit within the radius of the cores: the normal is the direction from the final simplex
+    // to x, sharper than the last advance's (by the angle x moved through, 2e-3 rad for a
+    // capsule grazing a sphere), where that direction is resolved (|v| well above the
+    // rounding floor; with no radius, v is rounding noise and the advance direction stays).
+    mask_t<T> resolved = nd2 > (splat<T>(S(64)) * floor) * (splat<T>(S(64)) * floor);
+    out.n = GVec3<T>::select((done_hit & advanced_ever) & resolved, step.v, out.n);
     v = GVec3<T>::select(take, step.v, v);
     d2_ref = plume::select(take, nd2, d2_ref);
     out.failed = out.failed | (active & bad);
     out.hit = out.hit | done_hit;
-    active = active & (!(miss | done_hit | bad));
+    gave_up = gave_up | give_up;
+    active = active & (!(((miss | done_hit) | give_up) | bad));
   }
-  out.out_of_iterations = active;
+  out.out_of_iterations = active | gave_up;
   // An unfinished lane is a hit at its toi so far: x never enters D, so that toi is a lower
   // bound of the time of impact (0 if x never advanced), and a caller that stops there cannot
   // pass through B.
-  out.hit = (out.hit | active) & (!out.failed);
+  out.hit = (out.hit | out.out_of_iterations) & (!out.failed);
   return out;
 }
 
@@ -288,6 +309,7 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
   T tol = splat<T>(S(cfg.tolerance));
   T rel = splat<T>(S(cfg.relative_tolerance));
   T eps = epsilon<T>();
+  T floor_k = splat<T>(S(16)) * eps;
 
   mask_t<T> good_input =
       ((pose_a.is_finite() & pose_b.is_finite()) & (plume::is_finite(ra) & plume::is_finite(rb))) &
@@ -298,7 +320,11 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
   v = GVec3<T>::select(v.dot(v) > zero, v, GVec3<T>::X);
 
   detail::simplex<T> s;
-  T d2 = infinity<T>();
+  T d2 = infinity<T>();      // |v|^2 of the simplex held
+  T best_d2 = infinity<T>(); // the smallest |v|^2 seen, and its v: the answer
+  GVec3<T> best_v{};
+  T stalls = zero; // steps in a row that did not shrink |v|
+  mask_t<T> stalled_out = no_lanes<T>();
   T max_y2 = zero;
   GVec3<T> pa{}, pb{};
   mask_t<T> active = !bad_input;
@@ -312,13 +338,18 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
     iterations = plume::select(active, iterations + one<T>(), iterations);
     detail::simplex_vertex<T> w = detail::minkowski_vertex(sa, sb, v);
     GVec3<T> y = -w.p; // a - b
-    mask_t<T> bad = !detail::finite3(y);
-    max_y2 = plume::select(active, plume::max_select(y.dot(y), max_y2), max_y2);
+    T y2 = y.dot(y);
+    // (A square that overflows: coordinates beyond about 1e19, which float cannot query.)
+    mask_t<T> bad = !(detail::finite3(y) & plume::is_finite(y2));
+    max_y2 = plume::select(active, plume::max_select(y2, max_y2), max_y2);
     // Stop when the lower bound v.y/|v| is within tolerance of the upper bound |v|.
     T vl = plume::sqrt(d2);
     T gap = d2 - v.dot(y);
     mask_t<T> has_v = d2 < infinity<T>();
-    mask_t<T> bounded = has_v & ((gap <= tol * vl) | (gap <= rel * d2));
+    // (Or within the rounding floor, 16 eps of the coordinates in play, where float cannot
+    // resolve the tolerance.)
+    T floor = floor_k * plume::sqrt(max_y2);
+    mask_t<T> bounded = has_v & ((gap <= plume::max_select(tol, floor) * vl) | (gap <= rel * d2));
 
     detail::simplex_step<T> step = detail::closest_on_simplex(s, w, GVec3<T>{});
     T nd2 = step.v.dot(step.v);
@@ -326,11 +357,26 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
     mask_t<T> touching =
         step.inside | (nd2 <= (splat<T>(S(64)) * eps) * (splat<T>(S(64)) * eps) * max_y2);
     mask_t<T> ok = active & (!bad);
-    mask_t<T> finish = ok & (bounded | no_progress);
+    // A step that does not shrink |v| while the bounds are still apart. With w already in the
+    // simplex, nothing is left to learn: the gap is the rounding of v, and the query has
+    // converged as far as float can tell. Otherwise float could not resolve the decrease (a
+    // long, thin simplex close to the origin, where the projection's rounding exceeds the
+    // step's gain) or a face was skipped as flat; the step's direction is still the better
+    // one: take it and keep the best state for the answer; after max_stalls such steps in a
+    // row, stop unconverged.
+    mask_t<T> settled = no_progress; // (a rare case: the vertex test only then)
+    if (plume::any(no_progress)) settled = settled & detail::holds(s, w);
+    stalls = plume::select(no_progress, stalls + one<T>(), zero);
+    mask_t<T> give_up = (no_progress & (!settled)) & (stalls >= splat<T>(S(detail::max_stalls)));
+    mask_t<T> finish = ok & ((bounded | settled) | give_up);
     mask_t<T> take = ok & (!finish);
     auto const [npa, npb] = detail::closest_points(s, w, step.lambda);
-    pa = GVec3<T>::select(take, npa, pa);
-    pb = GVec3<T>::select(take, npb, pb);
+    mask_t<T> better = take & (nd2 < best_d2);
+    pa = GVec3<T>::select(better, npa, pa);
+    pb = GVec3<T>::select(better, npb, pb);
+    best_v = GVec3<T>::select(better, step.v, best_v);
+    best_d2 = plume::select(better, nd2, best_d2);
+    stalled_out = stalled_out | ((ok & give_up) & (!(bounded | settled)));
     for (std::size_t k = 0; k < 3; ++k) {
       s.v[k] = detail::simplex_vertex<T>{GVec3<T>::select(take, step.next.v[k].p, s.v[k].p),
                                          GVec3<T>::select(take, step.next.v[k].a, s.v[k].a),
@@ -347,7 +393,8 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
   }
 
   GClosestPoints<T> out;
-  T core = plume::sqrt(d2);
+  T core = plume::sqrt(best_d2);
+  v = best_v;
   GVec3<T> n = -v.normalize_or_zero(); // v = a - b points from B to A
   mask_t<T> apart = (!overlap) & (n.dot(n) > zero);
   out.overlap = overlap | ((!failed) & (!apart));
@@ -356,7 +403,7 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
   out.point_a = pa + out.normal * ra;
   out.point_b = pb - out.normal * rb;
   out.axis = v;
-  out.converged = done & (!failed);
+  out.converged = (done & (!failed)) & (!stalled_out);
   out.failed = failed;
   T qnan = nan<T>();
   out.distance = plume::select(failed, qnan, out.distance);
@@ -390,23 +437,37 @@ shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const
                        pose_a.translation - pose_b.translation, bad_input, cfg.gjk);
   GShapeCastHit<T> out;
   GVec3<T> n = -c.n.normalize_or_zero(); // c.n points out of D = B - A: from B to A
-  // Starting within reach: the normal is the current separation direction (none if the
-  // cores overlap).
+  // Starting within reach: the normal is the separation direction (none if the cores
+  // overlap). The cast stops as soon as it knows the start is within reach, before GJK has
+  // found the closest points (a capsule whose core lies inside a box got a direction 60
+  // degrees off): they and the normal come from a closest-point query, warm-started from
+  // where the cast stopped.
+  GVec3<T> core_a = c.pa, core_b = c.pb;
+  mask_t<T> cores_overlap = c.cores_overlap;
   GVec3<T> sep = -(c.pa - c.pb).normalize_or_zero();
+  mask_t<T> start = c.started_inside & (!(c.failed | c.cores_overlap));
+  if (plume::any(start)) {
+    GClosestPoints<T> cp = closest_points(a, pose_a, b, pose_b, cfg.gjk, c.pa - c.pb);
+    mask_t<T> use = start & (!cp.failed);
+    cores_overlap = cores_overlap | (use & cp.overlap);
+    sep = GVec3<T>::select(use, cp.normal, sep);
+    core_a = GVec3<T>::select(use, cp.point_a - cp.normal * ra, core_a);
+    core_b = GVec3<T>::select(use, cp.point_b + cp.normal * rb, core_b);
+  }
   GVec3<T> normal =
-      GVec3<T>::select(c.cores_overlap, GVec3<T>{}, GVec3<T>::select(c.started_inside, sep, n));
+      GVec3<T>::select(cores_overlap, GVec3<T>{}, GVec3<T>::select(c.started_inside, sep, n));
   // Not moving further in: out along the contact normal, or along the surface (within 1e-3
   // radians: the normal of a started-inside cast carries GJK's rounding, about 1e-5).
   T nm = normal.dot(motion_a);
   mask_t<T> along = (nm <= zero) | (nm * nm <= splat<T>(1e-6) * motion_a.dot(motion_a));
-  mask_t<T> separating = c.started_inside & (!c.cores_overlap) & along;
+  mask_t<T> separating = c.started_inside & (!cores_overlap) & along;
   mask_t<T> ignore = cfg.stop_at_penetration ? no_lanes<T>() : separating;
   out.hit = c.hit & (!ignore);
   out.toi = plume::select(out.hit, c.toi, infinity<T>());
   out.normal = GVec3<T>::select(out.hit, normal, GVec3<T>{});
   GVec3<T> moved = motion_a * c.toi;
-  out.point_a = GVec3<T>::select(out.hit, c.pa + moved + out.normal * ra, GVec3<T>{});
-  out.point_b = GVec3<T>::select(out.hit, c.pb - out.normal * rb, GVec3<T>{});
+  out.point_a = GVec3<T>::select(out.hit, core_a + moved + out.normal * ra, GVec3<T>{});
+  out.point_b = GVec3<T>::select(out.hit, core_b - out.normal * rb, GVec3<T>{});
   out.failed = c.failed;
   out.penetrating = c.hit & c.started_inside & (!c.failed);
   out.out_of_iterations = c.out_of_iterations & (!c.failed);

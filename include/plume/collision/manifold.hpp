@@ -397,6 +397,23 @@ struct clip_vertex {
   std::uint32_t edge;
 };
 
+/// Whether face f of fs has an area (its vector area above 64 eps of its size squared): a
+/// face of zero area (a box with zero extents, a point or a segment) bounds nothing, and
+/// clipping against its degenerate sides would keep everything.
+template <ScalarReal S>
+bool face_has_area(face_set<S> const& fs, std::uint32_t f) noexcept {
+  auto const v = fs.face(f);
+  GVec3<S> area{};
+  S size = S(0);
+  for (std::size_t k = 0; k < v.size(); ++k) {
+    GVec3<S> const& a = fs.verts[v[k]];
+    area += a.cross(fs.verts[v[(k + 1) % v.size()]]);
+    size = std::max(size, a.abs().max_element());
+  }
+  S const floor = S(64) * std::numeric_limits<S>::epsilon() * size * size;
+  return area.length() > floor;
+}
+
 /// One Sutherland-Hodgman pass over the polygon in[0, n): the vertices on the inner side of
 /// reference side k (the plane through a with inward normal `side`) and a new vertex where
 /// an edge crosses it, at most 64, into out; returns their count.
@@ -419,11 +436,13 @@ int clip_side(clip_vertex<S> const* in, int n, GVec3<S> const& a, GVec3<S> const
 }
 
 /// Clips the incident polygon (face inf of inc) against the side planes of the reference face
-/// (face rf of ref); keeps the points within the prediction distance, at most 4.
+/// (face rf of ref); keeps the points within the prediction distance, at most 4. A reference
+/// face without area keeps none (the callers fall back to one point).
 template <ScalarReal S>
 void clip_faces(face_set<S> const& ref, GIso3<S> const& ref_pose, std::uint32_t rf,
                 face_set<S> const& inc, GIso3<S> const& inc_pose, std::uint32_t inf, bool ref_is_b,
                 S r_ref, S r_inc, ManifoldConfig const& cfg, GManifold<S>& m) {
+  if (!face_has_area(ref, rf)) return;
   std::array<clip_vertex<S>, 64> buf_a{}, buf_b{};
   int n = 0;
   auto const iv = inc.face(inf);
@@ -449,10 +468,11 @@ void clip_faces(face_set<S> const& ref, GIso3<S> const& ref_pose, std::uint32_t 
 }
 
 /// The core segment of a capsule clipped against a reference face (two points), with the
-/// feature key of each end.
+/// feature key of each end; none against a face without area.
 template <ScalarReal S>
 void clip_segment(face_set<S> const& ref, GIso3<S> const& ref_pose, std::uint32_t rf, GVec3<S> p0,
                   GVec3<S> p1, bool ref_is_b, S r_seg, ManifoldConfig const& cfg, GManifold<S>& m) {
+  if (!face_has_area(ref, rf)) return;
   auto const rv = ref.face(rf);
   GVec3<S> const rn = ref_pose.transform_vector(ref.faces[rf].normal);
   GVec3<S> const r0 = ref_pose.transform_point(ref.verts[rv[0]]);

@@ -273,19 +273,27 @@ private:
 /// Entry and exit of a ray (origin o, direction with reciprocal inv, sign `neg` per axis)
 /// into box b, clipped to [0, max_toi]: NaN crossings (an origin on a plane of a slab it lies
 /// in, with a zero direction on that axis) are skipped, so they never turn a hit into a miss.
+/// Exits are conservative: computed with |inv| enlarged by 2^-20 (inv_far), so the rounding
+/// of the slab arithmetic (a few ulps of t) never rejects a box a ray grazes at an edge or
+/// corner, where a triangle's own test, with its rounding, may hit.
 /// Sign is bool (one ray: every lane of T tests the same ray against other boxes) or mask_t<T>
 /// (a ray per lane, each with its own signs); the arithmetic is the same, so a lane of the
 /// second gives the first's entry and verdict bit for bit.
 template <Real T, class Sign = bool>
 struct ray_slab_setup {
-  GVec3<T> origin, inv;
+  GVec3<T> origin, inv, inv_far;
   Sign neg[3];
 };
+template <Real T>
+PLUME_INLINE GVec3<T> slab_inv_far(GVec3<T> const& inv) noexcept {
+  return inv * splat<T>(scalar_t<T>(1) + scalar_t<T>(0x1p-20));
+}
 template <Real T>
 PLUME_INLINE ray_slab_setup<T> make_ray_slab(GVec3<T> const& origin, GVec3<T> const& dir,
                                              bool const neg[3]) noexcept {
   T const one = plume::one<T>();
-  return {origin, {one / dir.x, one / dir.y, one / dir.z}, {neg[0], neg[1], neg[2]}};
+  GVec3<T> const inv{one / dir.x, one / dir.y, one / dir.z};
+  return {origin, inv, slab_inv_far(inv), {neg[0], neg[1], neg[2]}};
 }
 /// A ray per lane: each lane's signs from its direction (inv < 0 is signbit(dir), 1/-0 being
 /// -inf).
@@ -294,7 +302,7 @@ PLUME_INLINE ray_slab_setup<T, mask_t<T>> make_ray_slab_lanes(GVec3<T> const& or
                                                               GVec3<T> const& dir) noexcept {
   T const one = plume::one<T>(), zero = plume::zero<T>();
   GVec3<T> const inv{one / dir.x, one / dir.y, one / dir.z};
-  return {origin, inv, {inv.x < zero, inv.y < zero, inv.z < zero}};
+  return {origin, inv, slab_inv_far(inv), {inv.x < zero, inv.y < zero, inv.z < zero}};
 }
 /// `neg ? hi : lo`, per lane for a mask.
 template <Real T, class Sign>
@@ -309,11 +317,11 @@ template <Real T, class Sign>
 PLUME_INLINE mask_t<T> ray_enters(ray_slab_setup<T, Sign> const& r, GVec3<T> const& lo,
                                   GVec3<T> const& hi, T max_toi, T& entry) noexcept {
   T const nx = (slab_pick(r.neg[0], hi.x, lo.x) - r.origin.x) * r.inv.x;
-  T const fx = (slab_pick(r.neg[0], lo.x, hi.x) - r.origin.x) * r.inv.x;
+  T const fx = (slab_pick(r.neg[0], lo.x, hi.x) - r.origin.x) * r.inv_far.x;
   T const ny = (slab_pick(r.neg[1], hi.y, lo.y) - r.origin.y) * r.inv.y;
-  T const fy = (slab_pick(r.neg[1], lo.y, hi.y) - r.origin.y) * r.inv.y;
+  T const fy = (slab_pick(r.neg[1], lo.y, hi.y) - r.origin.y) * r.inv_far.y;
   T const nz = (slab_pick(r.neg[2], hi.z, lo.z) - r.origin.z) * r.inv.z;
-  T const fz = (slab_pick(r.neg[2], lo.z, hi.z) - r.origin.z) * r.inv.z;
+  T const fz = (slab_pick(r.neg[2], lo.z, hi.z) - r.origin.z) * r.inv_far.z;
   // max_select/min_select return their second argument for a NaN first one.
   T const tn = plume::max_select(nz, plume::max_select(ny, plume::max_select(nx, zero<T>())));
   T const tf = plume::min_select(fz, plume::min_select(fy, plume::min_select(fx, max_toi)));

@@ -46,9 +46,10 @@
 // the field's pyramid) with every box grown by the shape's box (in the mesh's frame) and the
 // target distance, and a box entered later than the best time of impact found so far, plus a
 // slack for the cast's tolerance and rounding, is skipped. The normal points out of the mesh
-// toward the cast shape. One exception to "bit for bit": a triangle whose cast stops at GJK's
-// iteration cap reports an early, conservative toi (collision/gjk.hpp) that its box may not
-// reach, and then brute force can report it where this does not.
+// toward the cast shape. One exception to "bit for bit": a triangle whose cast stops
+// unconverged (out_of_iterations: the iteration cap, or steps GJK could not resolve) reports
+// an early, conservative toi (collision/gjk.hpp) that its box may not reach, and then brute
+// force can report it where this does not.
 //
 // Bad input: a non-finite pose gives failed contacts (none) and no cast hit or overlap; a
 // non-finite motion, a NaN, negative or infinite max_toi, or a NaN, negative or infinite
@@ -82,6 +83,7 @@ concept TriangleSource = requires(M const& m, std::uint32_t t, Aabb3 const& box)
   { m.face_normal(t) } -> std::convertible_to<Vec3>;
   { m.edges(t) } -> std::convertible_to<TriangleEdges>;
   { m.triangle_count() } -> std::convertible_to<std::size_t>;
+  { m.local_aabb() } -> std::convertible_to<Aabb3>;
   m.query_aabb(box, [](std::uint32_t) {});
   m.swept_query(Ray3{}, Vec3{}, 1.0f, [](std::uint32_t, float) { return 1.0f; });
 };
@@ -249,8 +251,17 @@ inline std::uint64_t mesh_point_id(std::uint64_t id, std::uint32_t t) noexcept {
 }
 
 /// The box of a world-space box in the mesh's local frame.
+/// A box with its sides clamped to +-2^125: a box that big (a huge target distance or
+/// prediction) still covers every triangle a float mesh can hold, and its centre, half
+/// extents and rotated extents stay finite (an infinite side would give inf - inf and 0 * inf:
+/// NaN, a box that meets nothing).
+inline Aabb3 clamp_box(Aabb3 const& b) noexcept {
+  Vec3 const big = Vec3::splat(0x1p125f);
+  return {b.min.max(-big).min(big), b.max.max(-big).min(big)};
+}
+
 inline Aabb3 to_mesh_local(Aabb3 const& world_box, Iso3 const& mesh_pose) noexcept {
-  return world_box.transformed(mesh_pose.inverse());
+  return clamp_box(world_box).transformed(mesh_pose.inverse());
 }
 
 /// The mesh's triangles whose boxes meet a world box, in increasing index.
@@ -367,11 +378,16 @@ MeshShapeHit mesh_shape_cast(Mesh const& mesh, Iso3 const& mesh_pose, Shape cons
     best.penetrating = bool(c.penetrating);
   };
   // GJK reports a contact once the gap is within its tolerance (or the rounding floor of the
-  // coordinates) of the target distance, so the shape's box grows by that much: at any
-  // reported toi the grown box touches the triangle's box, whatever the angle of approach.
-  float const reach =
-      std::max(pose.translation.abs().max_element(), mesh_pose.translation.abs().max_element()) +
-      start.size().max_element() + 1.0f;
+  // coordinates in play, the triangles' among them) of the target distance, so the shape's
+  // box grows by that much: at any reported toi the grown box touches the triangle's box,
+  // whatever the angle of approach.
+  Aabb3 const bounds = mesh.local_aabb();
+  float const mesh_extent = mesh.triangle_count() == 0 ? 0.0f
+                                                       : std::max(bounds.min.abs().max_element(),
+                                                                  bounds.max.abs().max_element());
+  float const reach = std::max(pose.translation.abs().max_element(),
+                               mesh_pose.translation.abs().max_element() + mesh_extent) +
+                      start.size().max_element() + 1.0f;
   float const margin = 4.0f * cfg.gjk.tolerance + 64.0f * 0x1p-23f * reach;
   if (motion.abs().max_element() == 0.0f || cfg.max_toi == 0.0f) {
     // No sweep: only a start in contact can hit.
@@ -384,7 +400,8 @@ MeshShapeHit mesh_shape_cast(Mesh const& mesh, Iso3 const& mesh_pose, Shape cons
   // The grown box in the mesh's frame, swept along the motion from its centre: a box entered
   // after the best toi so far (plus a relative rounding slack) holds no triangle that could
   // report a toi at or below it.
-  Aabb3 const local = detail::to_mesh_local(start, mesh_pose).grow(cfg.target_distance + margin);
+  Aabb3 const local =
+      detail::clamp_box(detail::to_mesh_local(start, mesh_pose).grow(cfg.target_distance + margin));
   Vec3 const half = (local.max - local.min) * 0.5f, centre = (local.min + local.max) * 0.5f;
   Ray3 const sweep{centre, mesh_pose.inverse_transform_vector(motion)};
   mesh.swept_query(sweep, half, cfg.max_toi, [&](std::uint32_t t, float) {

@@ -90,8 +90,12 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
     take(ok & (v.dot(v) < best_d2), v, l, m);
   }
 
-  // Triangles {w, i, j}: with n = (yi - y0) x (yj - y0), the projection of the origin has the
-  // weights (yi x yj) . n, (yj x y0) . n, (y0 x yi) . n over |n|^2.
+  // Triangles {w, i, j}: with ei = yi - y0, ej = yj - y0 and n = ei x ej, the projection of
+  // the origin has the weights (ej x y0) . n and (y0 x ei) . n over |n|^2 for i and j, and the
+  // rest for w. From the edges, not from yj x y0 (the same vector in exact arithmetic): for a
+  // small triangle far from the query point that cross product of two long, nearly parallel
+  // vectors is all rounding, and the weights came out 1e-3 off (a cast's contact point 5e-3
+  // off a point shape).
   constexpr std::size_t pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
   for (auto const& pr : pairs) {
     std::size_t const i = pr[0], j = pr[1];
@@ -100,9 +104,9 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
     T nn = n.dot(n);
     mask_t<T> flat = nn <= eps * (ei.dot(ei) * ej.dot(ej));
     T rn = one<T>() / plume::select(flat, one<T>(), nn);
-    T lw = y[i].cross(y[j]).dot(n) * rn;
-    T li = y[j].cross(y0).dot(n) * rn;
-    T lj = y0.cross(y[i]).dot(n) * rn;
+    T li = ej.cross(y0).dot(n) * rn;
+    T lj = y0.cross(ei).dot(n) * rn;
+    T lw = (one<T>() - li) - lj;
     mask_t<T> ok = s.present[i] & s.present[j] & (!flat) & (lw > zero) & (li > zero) & (lj > zero);
     // v along the face normal n (not the weighted sum of the y's): its direction then comes
     // from the edges alone, accurate even when |v| is tiny next to the coordinates (a ray point
@@ -150,6 +154,17 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
   best.next.present[2] = second_is_1 | second_is_2;
   // (When the origin is inside, the third member is dropped: the query stops there.)
   return best;
+}
+
+/// The lanes where w is already a vertex of s (the same point of D): a step with it can
+/// learn nothing new.
+template <Real T>
+PLUME_INLINE mask_t<T> holds(simplex<T> const& s, simplex_vertex<T> const& w) noexcept {
+  mask_t<T> out = no_lanes<T>();
+  for (std::size_t k = 0; k < 3; ++k)
+    out = out | (s.present[k] &
+                 (((s.v[k].p.x == w.p.x) & (s.v[k].p.y == w.p.y)) & (s.v[k].p.z == w.p.z)));
+  return out;
 }
 
 /// The weighted sums of the a and b points of the step's simplex (the closest points on A and

@@ -63,7 +63,8 @@ public:
   std::span<Collider const> colliders() const noexcept { return colliders_; }
 
   /// The first collider the shape touches moving by t * motion, t in [0, 1]; colliders it
-  /// overlaps at the start are ignored when the motion leaves them or runs along them.
+  /// overlaps at the start are ignored when the motion leaves them or runs along them (for
+  /// cores that overlap, along the contact manifold's normal); the normal is always unit.
   std::optional<MoveCastHit<std::uint32_t>> cast(Shape const& shape, Iso3 const& pose,
                                                  Vec3 const& motion,
                                                  ColliderFilter const& filter) const {
@@ -81,8 +82,22 @@ public:
           [&](auto const& s) {
             ShapeCastHit const h = shape_cast(shape, pose, motion, s, c.pose, cfg);
             if (!h.hit || h.failed) return;
+            Vec3 normal = -h.normal, point = h.point_b;
+            if (normal.length_squared() == 0.0f) {
+              // Cores overlapping at the start: the cast has no normal. The contact manifold's
+              // (EPA's) gives one, and the start is ignored as any other when the motion
+              // leaves the collider or runs along it.
+              ManifoldConfig mcfg;
+              mcfg.prediction = 0.0f;
+              Manifold const m = contact_manifold(s, c.pose, shape, pose, mcfg);
+              if (m.empty() || m.failed || !(m.normal.length_squared() > 0.0f)) return;
+              float const out = m.normal.dot(motion);
+              if (out >= 0.0f || out * out <= 1e-6f * motion.length_squared()) return;
+              normal = m.normal;
+              point = m.begin()->point_a;
+            }
             if (!best || h.toi < best->toi)
-              best = MoveCastHit<std::uint32_t>{i, h.toi, h.point_b, -h.normal};
+              best = MoveCastHit<std::uint32_t>{i, h.toi, point, normal};
           },
           c.shape);
     }

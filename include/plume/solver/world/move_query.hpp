@@ -33,10 +33,15 @@ public:
   World const& world() const noexcept { return *world_; }
 
   /// The first body the shape touches moving by t * motion, t in [0, 1]; bodies it overlaps
-  /// at the start are ignored when the motion leaves them.
+  /// at the start are ignored when the motion leaves them (for cores that overlap, along the
+  /// contact manifold's normal); the normal is always unit.
   std::optional<MoveCastHit<BodyId>> cast(BodyShape const& shape, Iso3 const& pose,
                                           Vec3 const& motion, QueryFilter const& filter) const {
-    return as_move_hit(world_->shape_cast(shape, pose, motion, cast_config(), filter));
+    std::optional<WorldShapeHit> const h =
+        world_->shape_cast(shape, pose, motion, cast_config(), filter);
+    if (h && !(h->normal.length_squared() > 0.0f))
+      return resolve_overlap(shape, pose, motion, filter, *h);
+    return as_move_hit(h);
   }
 
   /// cast() for many shapes at once, through World::shape_cast (its batch form: shapes near
@@ -49,8 +54,12 @@ public:
       throw std::invalid_argument("WorldMoveQuery::cast_lanes: out and shapes differ in length");
     std::vector<std::optional<WorldShapeHit>> hits(shapes.size());
     world_->shape_cast(shapes, poses, motions, cast_config(), hits, filter);
-    for (std::size_t i = 0; i < shapes.size(); ++i)
-      out[i] = as_move_hit(hits[i]);
+    for (std::size_t i = 0; i < shapes.size(); ++i) {
+      std::optional<WorldShapeHit> const& h = hits[i];
+      out[i] = h && !(h->normal.length_squared() > 0.0f)
+                   ? resolve_overlap(shapes[i], poses[i], motions[i], filter, *h)
+                   : as_move_hit(h);
+    }
   }
 
   /// The deepest point of each body's manifold with the shape within `distance`.
@@ -77,6 +86,44 @@ private:
     cfg.max_toi = 1.0f;
     cfg.stop_at_penetration = false;
     return cfg;
+  }
+  /// A hit with no normal: the cores overlapped at the start. The contact manifold with that
+  /// body (EPA's normal) gives one; a start the motion leaves or runs along (within 1e-3 rad)
+  /// is ignored as any other, and the cast goes on without that body.
+  std::optional<MoveCastHit<BodyId>> resolve_overlap(BodyShape const& shape, Iso3 const& pose,
+                                                     Vec3 const& motion, QueryFilter const& filter,
+                                                     WorldShapeHit first) const {
+    std::vector<BodyId> skipped(filter.exclude.begin(), filter.exclude.end());
+    std::optional<WorldShapeHit> h = first;
+    // Each round skips one more body: a bounded loop.
+    for (int round = 0; round < 64 && h && !(h->normal.length_squared() > 0.0f); ++round) {
+      BodyId const body = h->body;
+      QueryFilter only = filter;
+      only.predicate = [&](BodyId id) {
+        return id == body && (!filter.predicate || filter.predicate(id));
+      };
+      std::optional<Vec3> normal;
+      Vec3 point{};
+      world_->contact_query(
+          shape, pose, 0.0f,
+          [&](BodyId, Manifold const& m) {
+            if (m.empty()) return true;
+            normal = m.normal;
+            point = m.begin()->point_a;
+            return false;
+          },
+          only);
+      float const out = normal ? normal->dot(motion) : 0.0f;
+      if (normal && normal->length_squared() > 0.0f && out < 0.0f &&
+          out * out > 1e-6f * motion.length_squared())
+        return MoveCastHit<BodyId>{body, h->toi, point, *normal};
+      skipped.push_back(body);
+      QueryFilter rest = filter;
+      rest.exclude = skipped;
+      h = world_->shape_cast(shape, pose, motion, cast_config(), rest);
+    }
+    if (h && !(h->normal.length_squared() > 0.0f)) return std::nullopt;
+    return as_move_hit(h);
   }
   static std::optional<MoveCastHit<BodyId>> as_move_hit(std::optional<WorldShapeHit> const& h) {
     if (!h) return std::nullopt;
