@@ -10,6 +10,7 @@
 #include <plume/collision/shapes.hpp>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <set>
 #include <vector>
@@ -295,4 +296,59 @@ PLUME_WIDE_TEST_CASE("wide polytopes and mass properties are lane-exact",
       [](auto h, auto rad) {
         return GCapsule<decltype(h)>{h, rad}.mass_properties(decltype(h)(2)).inertia;
       });
+}
+
+TEST_CASE("hull: the tolerance has a floor, and a set thinner than it is coplanar",
+          "[collision][hull][fuzz]") {
+  // Coordinates up to 2.4e33 with a tolerance of 1e-4: far below the rounding of float there
+  // (faces stored in float), and an input point ended up 1e26 outside a face (a fuzz finding,
+  // convex_hull regress-tiny-tolerance-misses-point). The tolerance is raised to the default,
+  // 5e27 here, and at that the set, whose y extent is 5e24, is flat: coplanar.
+  std::vector<Vec3> const far{
+      {-0x1.2e13b2p+36f, 0x1.9bdb9cp-1f, 0x1.b3adbp-2f},
+      {0x1.f8752p-114f, -0x1.475948p-3f, 0x1.93abbp+94f},
+      {0x1.0c870cp-1f, -0x1.effffp-1f, 0x1.c5b5c8p-2f},
+      {0x0p+0f, 0x1.c7f3c8p-1f, 0x1.579b58p-1f},
+      {-0x1.e5efe6p-1f, -0x1.475948p-3f, 0x1.506fbp+108f},
+      {0x1.2ap-9f, -0x1.8aa38ap-1f, 0x1.24f324p-1f},
+      {-0x1.ef3dfp-2f, 0x1.57d358p-1f, -0x1.6e476ep-1f},
+      {-0x1.e0dbep-1f, 0x1.fc0e84p-93f, 0x1.367538p-2f},
+      {0x1.000dfep+77f, 0x1.63c764p-1f, -0x1.99e598p-2f},
+      {-0x1.2b81p-7f, 0x1.39cf38p-1f, 0x1.27a728p-1f},
+      {-0x1.ef3dfp-2f, -0x1.ba07bap-1f, 0x1.367538p-2f},
+      {-0x1p+0f, 0x0p+0f, 0x0p+0f},
+      {0x0p+0f, -0x1.945ffcp-126f, -0x1.8aa38ap-1f},
+      {0x1.78f378p-1f, -0x1.d597d6p-1f, -0x1.f9931ap-82f},
+      {-0x1.8b5b8cp-1f, 0x1p+0f, 0x1.f145fp-2f},
+      {-0x1.d2de34p+110f, -0x1.15c79cp+82f, 0x1.89718p-4f},
+      {0x1.abcd6cp-112f, 0x1.90699p-3f, 0x1.8b5d88p-2f},
+      {-0x1.f233f2p-1f, 0x1.4d0ccp-112f, 0x1.3ac94p-3f},
+      {0x1.42954p-2f, 0x1.5bf558p-2f, -0x1.139714p-1f},
+      {0x1.41a54p-2f, 0x1.e2f9ep-3f, 0x1.93eb94p-1f},
+      {0x1.86f588p-2f, 0x1.84b752p-35f, -0x1.ff2cp-1f},
+      {0x0p+0f, 0x0p+0f, 0x0p+0f},
+  };
+  CHECK(ConvexHull::build(far, 0x1.b23ce4p-14f).error == HullError::coplanar);
+  // A box 1e6 wide with a tolerance of 1e-6: raised to the default, 16 eps x 3e6.
+  std::vector<Vec3> box = box_points({1e6f, 1e6f, 1e6f});
+  box.push_back({0.5e6f, 0.25e6f, 1e6f}); // a point on a face
+  auto const wide = ConvexHull::build(box, 1e-6f);
+  REQUIRE(wide);
+  CHECK(wide.hull.tolerance() == float(16.0 * double(std::numeric_limits<float>::epsilon()) * 3e6));
+  CHECK(wide.hull.faces().size() == 6);
+  // A tolerance larger than the default is kept.
+  auto const loose = ConvexHull::build(box_points({1, 1, 1}), 0.01f);
+  REQUIRE(loose);
+  CHECK(loose.hull.tolerance() == 0.01f);
+
+  // A tetrahedron 2.5e-3 thick across one face, with a tolerance of 3.2e-3: the starting
+  // face's apex is farther than the tolerance, but every point is within it of another face's
+  // plane. The merge of everything within the tolerance left faces of two vertices (a fuzz
+  // finding, convex_hull regress-tolerance-above-thickness); it is the coplanar error.
+  std::vector<Vec3> const thin{{0x1.47ae14p-9f, 0x1.704546p-9f, 0x1.47ae14p-9f},
+                               {-0x1.47ae14p-9f, -0x1.704546p-9f, -0x1.47ae14p-9f},
+                               {0x1.47ae14p-9f, -0x1.704546p-9f, -0x1.47ae14p-9f},
+                               {-0x1.47ae14p-9f, 0x1.704546p-9f, -0x1.47ae14p-9f}};
+  CHECK(ConvexHull::build(thin, 0x1.a3ef7cp-9f).error == HullError::coplanar);
+  CHECK(ConvexHull::build(thin).error == HullError::none); // the default tolerance: a volume
 }

@@ -10,12 +10,15 @@
 //  - tolerance: a point within `tolerance` of a face plane is on that face, not outside it.
 //    The default is 16 eps(S) times the sum of the largest |coordinate| on each axis, so
 //    duplicates, coplanar and nearly coplanar points (noise below the tolerance) add no
-//    vertices and no sliver faces.
+//    vertices and no sliver faces. It is also the least: a smaller tolerance is raised to it
+//    (faces stored in S cannot be more exact than the rounding of S at those coordinates).
 //  - Coplanar triangles are merged into polygon faces; a vertex that lies only on a straight
 //    edge between two faces is dropped. Every face is a convex polygon, counter-clockwise seen
 //    from outside, with a unit outward normal and offset (normal . p = offset on the face).
 //  - Errors (the hull is then empty): fewer than 4 points, a non-finite coordinate, all
-//    points within the tolerance of one point, of one line, or of one plane.
+//    points within the tolerance of one point, of one line, or of one plane (also when that
+//    plane is not the starting tetrahedron's: a hull thinner than the tolerance across one
+//    of its faces is coplanar).
 #pragma once
 
 #include <plume/collision/mass_properties.hpp>
@@ -177,7 +180,8 @@ public:
   }
   /// Every face's vertex indices, one face after the other (face f from faces()[f].first).
   std::span<std::uint32_t const> face_vertex_indices() const noexcept { return d_.face_vertices; }
-  /// The tolerance the hull was built with.
+  /// The tolerance the hull was built with (the one asked for, or the default where that is
+  /// larger).
   S tolerance() const noexcept { return d_.tolerance; }
   bool empty() const noexcept { return d_.vertices.empty(); }
 

@@ -79,8 +79,9 @@ inline int edge_of(tri const& t, int a, int b) {
 
 // ------------------------------------------------------------------------ the points
 
-/// Copies the points into b in double and sets b.tol (tolerance <= 0: the default, 16 eps(S)
-/// times the sum of the largest |coordinate| on each axis); too_few_points or non_finite.
+/// Copies the points into b in double and sets b.tol: the default, 16 eps(S) times the sum of
+/// the largest |coordinate| on each axis (the rounding of S there, which a hull stored in S
+/// cannot beat), or a larger positive `tolerance`; too_few_points or non_finite.
 template <ScalarReal S>
 HullError load_points(std::span<GVec3<S> const> in, S tolerance, state& b) {
   if (in.size() < 4) return HullError::too_few_points;
@@ -93,9 +94,9 @@ HullError load_points(std::span<GVec3<S> const> in, S tolerance, state& b) {
     amax = {std::max(amax.x, std::abs(double(v.x))), std::max(amax.y, std::abs(double(v.y))),
             std::max(amax.z, std::abs(double(v.z)))};
   }
-  b.tol = tolerance > S(0)
-              ? double(tolerance)
-              : 16.0 * double(std::numeric_limits<S>::epsilon()) * (amax.x + amax.y + amax.z);
+  double const floor =
+      16.0 * double(std::numeric_limits<S>::epsilon()) * (amax.x + amax.y + amax.z);
+  b.tol = std::max(double(tolerance), floor); // (a NaN tolerance: the floor)
   return HullError::none;
 }
 
@@ -316,6 +317,24 @@ inline void grow(state& b) {
   }
 }
 
+/// Whether the hull is within tol of one of its faces' planes: every vertex less than tol
+/// below some live triangle's plane.
+inline bool thinner_than_tolerance(state const& b) {
+  std::vector<int> verts;
+  for (tri const& t : b.tris)
+    if (t.alive) verts.insert(verts.end(), t.v.begin(), t.v.end());
+  std::sort(verts.begin(), verts.end());
+  verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
+  for (tri const& t : b.tris) {
+    if (!t.alive) continue;
+    double depth = 0;
+    for (int v : verts)
+      depth = std::max(depth, -b.dist(t, v));
+    if (depth <= b.tol) return true;
+  }
+  return false;
+}
+
 // ---------------------------------------------------------------------- polygon faces
 
 /// The live triangles grouped into faces: face_of[t] (-1 for a dead triangle) and the
@@ -487,6 +506,13 @@ GHullBuild<S> run(std::span<GVec3<S> const> in, S tolerance) {
   if (out.error != HullError::none) return out;
   start_tetrahedron(b, s);
   grow(b);
+  // The starting face's apex is more than tol off its plane, but the set may be thinner in
+  // another direction: all points within tol of a plane (a face's plane, which the minimum
+  // width of the hull, up to the edge-edge directions, is measured along) is coplanar too.
+  if (thinner_than_tolerance(b)) {
+    out.error = HullError::coplanar;
+    return out;
+  }
   out.hull = GConvexHull<S>(polygon_hull<S>(b));
   return out;
 }
