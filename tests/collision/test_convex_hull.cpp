@@ -336,6 +336,10 @@ TEST_CASE("hull: the tolerance has a floor, and a set thinner than it is coplana
   REQUIRE(wide);
   CHECK(wide.hull.tolerance() == float(16.0 * double(std::numeric_limits<float>::epsilon()) * 3e6));
   CHECK(wide.hull.faces().size() == 6);
+  // A NaN tolerance is the default, as zero is.
+  auto const nan_tol = ConvexHull::build(box, std::numeric_limits<float>::quiet_NaN());
+  REQUIRE(nan_tol);
+  CHECK(nan_tol.hull.tolerance() == wide.hull.tolerance());
   // A tolerance larger than the default is kept.
   auto const loose = ConvexHull::build(box_points({1, 1, 1}), 0.01f);
   REQUIRE(loose);

@@ -489,3 +489,15 @@ TEST_CASE("manifold: degenerate boxes and flat differences give points on both s
         1e-5f);
   CHECK((f.begin()->point_b - pose.translation).length() <= 1e-5f);
 }
+
+TEST_CASE("manifold: a face far from the shape's origin still clips", "[collision][manifold]") {
+  // A 2 m triangle 1,000 m from its shape's origin (a mesh triangle in mesh coordinates): the
+  // area test of a reference face once measured against its distance from the origin, took
+  // it for a face without area and left a box resting on it one point.
+  Triangle const tri{{1000, 0, 1000}, {1000, 0, 1002}, {1002, 0, 1000}};
+  Manifold const m =
+      contact_manifold(tri, Iso3{}, Cuboid{Vec3{0.25f, 0.25f, 0.25f}},
+                       Iso3::from_translation({1000.5f, 0.24f, 1000.5f}), ManifoldConfig{});
+  CHECK(m.count == 4);
+  CHECK(m.normal.distance(Vec3{0, 1, 0}) <= 1e-5f);
+}

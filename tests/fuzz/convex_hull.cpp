@@ -309,7 +309,7 @@ extern "C" int LLVMFuzzerTestOneInput(std::uint8_t const* data, std::size_t size
     PLUME_FUZZ_CHECK(built.hull.faces().empty() && built.hull.edges().empty());
     return 0;
   }
-  double const tol = std::max(double(user_tol), default_tolerance(pts));
+  double const tol = std::max(default_tolerance(pts), double(user_tol));
   check_hull(built.hull, pts, tol);
   return 0;
 }

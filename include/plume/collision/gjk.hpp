@@ -273,8 +273,9 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
     out.started_inside = out.started_inside | (done_hit & (!advanced_ever));
     // A hit within the radius of the cores: the normal is the direction from the final simplex
     // to x, sharper than the last advance's (by the angle x moved through, 2e-3 rad for a
-    // capsule grazing a sphere), where that direction is resolved (|v| well above the
-    // rounding floor; with no radius, v is rounding noise and the advance direction stays).
+    // capsule grazing a sphere), where that direction is resolved (|v| above 64 times the
+    // rounding floor; else, as for a hit with no radius, v is noise and the advance
+    // direction stays).
     mask_t<T> resolved = nd2 > (splat<T>(S(64)) * floor) * (splat<T>(S(64)) * floor);
     out.n = GVec3<T>::select((done_hit & advanced_ever) & resolved, step.v, out.n);
     v = GVec3<T>::select(take, step.v, v);
@@ -285,6 +286,9 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
     active = active & (!(((miss | done_hit) | give_up) | bad));
   }
   out.out_of_iterations = active | gave_up;
+  // Stopped unconverged before any advance: no advance direction; the last search direction
+  // (out of D) stands in, so that a zero normal keeps meaning overlapping cores.
+  out.n = GVec3<T>::select(out.out_of_iterations & (!advanced_ever), v, out.n);
   // An unfinished lane is a hit at its toi so far: x never enters D, so that toi is a lower
   // bound of the time of impact (0 if x never advanced), and a caller that stops there cannot
   // pass through B.
@@ -394,8 +398,8 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
 
   GClosestPoints<T> out;
   T core = plume::sqrt(best_d2);
-  v = best_v;
-  GVec3<T> n = -v.normalize_or_zero(); // v = a - b points from B to A
+  v = GVec3<T>::select(best_d2 < infinity<T>(), best_v, v); // (no step taken: the start)
+  GVec3<T> n = -v.normalize_or_zero();                      // v = a - b points from B to A
   mask_t<T> apart = (!overlap) & (n.dot(n) > zero);
   out.overlap = overlap | ((!failed) & (!apart));
   out.normal = GVec3<T>::select(out.overlap, GVec3<T>{}, n);

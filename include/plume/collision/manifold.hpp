@@ -397,20 +397,23 @@ struct clip_vertex {
   std::uint32_t edge;
 };
 
-/// Whether face f of fs has an area (its vector area above 64 eps of its size squared): a
-/// face of zero area (a box with zero extents, a point or a segment) bounds nothing, and
-/// clipping against its degenerate sides would keep everything.
+/// Whether face f of fs has an area: its vector area, from the edges out of its first vertex,
+/// above 64 eps of the face's size times its coordinates (the rounding of those edges). A face
+/// of zero area (a box with zero extents, a point or a segment) bounds nothing, and clipping
+/// against its degenerate sides would keep everything.
 template <ScalarReal S>
 bool face_has_area(face_set<S> const& fs, std::uint32_t f) noexcept {
   auto const v = fs.face(f);
+  GVec3<S> const& o = fs.verts[v[0]];
   GVec3<S> area{};
-  S size = S(0);
-  for (std::size_t k = 0; k < v.size(); ++k) {
-    GVec3<S> const& a = fs.verts[v[k]];
-    area += a.cross(fs.verts[v[(k + 1) % v.size()]]);
-    size = std::max(size, a.abs().max_element());
+  S size = S(0), coords = o.abs().max_element();
+  for (std::size_t k = 1; k + 1 < v.size(); ++k) {
+    GVec3<S> const e1 = fs.verts[v[k]] - o, e2 = fs.verts[v[k + 1]] - o;
+    area += e1.cross(e2);
+    size = std::max(size, std::max(e1.abs().max_element(), e2.abs().max_element()));
+    coords = std::max(coords, fs.verts[v[k]].abs().max_element());
   }
-  S const floor = S(64) * std::numeric_limits<S>::epsilon() * size * size;
+  S const floor = S(64) * std::numeric_limits<S>::epsilon() * size * std::max(size, coords);
   return area.length() > floor;
 }
 

@@ -96,7 +96,7 @@ HullError load_points(std::span<GVec3<S> const> in, S tolerance, state& b) {
   }
   double const floor =
       16.0 * double(std::numeric_limits<S>::epsilon()) * (amax.x + amax.y + amax.z);
-  b.tol = std::max(double(tolerance), floor); // (a NaN tolerance: the floor)
+  b.tol = std::max(floor, double(tolerance)); // (a NaN tolerance: the floor)
   return HullError::none;
 }
 
@@ -327,10 +327,10 @@ inline bool thinner_than_tolerance(state const& b) {
   verts.erase(std::unique(verts.begin(), verts.end()), verts.end());
   for (tri const& t : b.tris) {
     if (!t.alive) continue;
-    double depth = 0;
-    for (int v : verts)
-      depth = std::max(depth, -b.dist(t, v));
-    if (depth <= b.tol) return true;
+    bool deep = false;
+    for (std::size_t k = 0; k < verts.size() && !deep; ++k)
+      deep = -b.dist(t, verts[k]) > b.tol;
+    if (!deep) return true;
   }
   return false;
 }

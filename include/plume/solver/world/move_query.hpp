@@ -87,9 +87,10 @@ private:
     cfg.stop_at_penetration = false;
     return cfg;
   }
-  /// A hit with no normal: the cores overlapped at the start. The contact manifold with that
-  /// body (EPA's normal) gives one; a start the motion leaves or runs along (within 1e-3 rad)
-  /// is ignored as any other, and the cast goes on without that body.
+  /// A hit with no normal: the cores overlapped at the start. The contact manifolds with that
+  /// body (EPA's normals) give one: the one the motion runs into most steeply; a start the
+  /// motion leaves or runs along (within 1e-3 rad) for every manifold is ignored as any other,
+  /// and the cast goes on without that body.
   std::optional<MoveCastHit<BodyId>> resolve_overlap(BodyShape const& shape, Iso3 const& pose,
                                                      Vec3 const& motion, QueryFilter const& filter,
                                                      WorldShapeHit first) const {
@@ -102,21 +103,26 @@ private:
       only.predicate = [&](BodyId id) {
         return id == body && (!filter.predicate || filter.predicate(id));
       };
+      // Every manifold of the body (a mesh gives one per group of triangles): the one the
+      // motion runs into most steeply is the hit; the body is left only when the motion
+      // leaves or runs along all of them.
       std::optional<Vec3> normal;
       Vec3 point{};
+      float steepest = 0.0f;
       world_->contact_query(
           shape, pose, 0.0f,
           [&](BodyId, Manifold const& m) {
-            if (m.empty()) return true;
-            normal = m.normal;
-            point = m.begin()->point_a;
-            return false;
+            if (m.empty() || !(m.normal.length_squared() > 0.0f)) return true;
+            float const out = m.normal.dot(motion);
+            if (out < steepest && out * out > 1e-6f * motion.length_squared()) {
+              steepest = out;
+              normal = m.normal;
+              point = m.begin()->point_a;
+            }
+            return true;
           },
           only);
-      float const out = normal ? normal->dot(motion) : 0.0f;
-      if (normal && normal->length_squared() > 0.0f && out < 0.0f &&
-          out * out > 1e-6f * motion.length_squared())
-        return MoveCastHit<BodyId>{body, h->toi, point, *normal};
+      if (normal) return MoveCastHit<BodyId>{body, h->toi, point, *normal};
       skipped.push_back(body);
       QueryFilter rest = filter;
       rest.exclude = skipped;
