@@ -144,7 +144,7 @@ MeshBuildResult TriangleMesh::build(std::span<Vec3 const> vertices,
     bool has_area = len2 >= std::numeric_limits<float>::min();
     if (!std::isfinite(len2)) {
       // The float cross product overflowed (inf, or inf - inf): the area decides in double,
-      // where it cannot (a field of 1.7e37 m cells lost a triangle here).
+      // where it cannot.
       DVec3 const da{tri.a.x, tri.a.y, tri.a.z}, db{tri.b.x, tri.b.y, tri.b.z},
           dc{tri.c.x, tri.c.y, tri.c.z};
       DVec3 const dn = (db - da).cross(dc - da);

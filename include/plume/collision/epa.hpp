@@ -410,8 +410,7 @@ GPenetrationResult<S> penetration(A const& a, GIso3<S> const& pose_a, B const& b
     GVec3<S> n = seed.flat_normal;
     if (n.dot(centre_dir) < S(0)) n = -n;
     // The points: where GJK found the cores meeting (a point of both), so that they are
-    // depth * normal apart once the radii are added (a support vertex of the flat set put a
-    // sphere's contact 0.67 off its partner).
+    // depth * normal apart once the radii are added.
     return finish(S(0), n, g.point_a, g.point_b, PenetrationStatus::penetrating, 0);
   };
   detail::epa_polytope<S> poly;

@@ -272,10 +272,9 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
     out.cores_overlap = out.cores_overlap | inside_now;
     out.started_inside = out.started_inside | (done_hit & (!advanced_ever));
     // A hit within the radius of the cores: the normal is the direction from the final simplex
-    // to x, sharper than the last advance's (by the angle x moved through, 2e-3 rad for a
-    // capsule grazing a sphere), where that direction is resolved (|v| above 64 times the
-    // rounding floor; else, as for a hit with no radius, v is noise and the advance
-    // direction stays).
+    // to x, sharper than the last advance's (by the angle x moved through), where that direction is
+    // resolved (|v| above 64 times the rounding floor; else, as for a hit with no radius, v is
+    // noise and the advance direction stays).
     mask_t<T> resolved = nd2 > (splat<T>(S(64)) * floor) * (splat<T>(S(64)) * floor);
     out.n = GVec3<T>::select((done_hit & advanced_ever) & resolved, step.v, out.n);
     v = GVec3<T>::select(take, step.v, v);
@@ -443,9 +442,8 @@ shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const
   GVec3<T> n = -c.n.normalize_or_zero(); // c.n points out of D = B - A: from B to A
   // Starting within reach: the normal is the separation direction (none if the cores
   // overlap). The cast stops as soon as it knows the start is within reach, before GJK has
-  // found the closest points (a capsule whose core lies inside a box got a direction 60
-  // degrees off): they and the normal come from a closest-point query, warm-started from
-  // where the cast stopped.
+  // found the closest points: they and the normal come from a closest-point query, warm-started
+  // from where the cast stopped.
   GVec3<T> core_a = c.pa, core_b = c.pb;
   mask_t<T> cores_overlap = c.cores_overlap;
   GVec3<T> sep = -(c.pa - c.pb).normalize_or_zero();
