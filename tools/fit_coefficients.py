@@ -100,7 +100,6 @@ P_exp = lambda r: (mp.exp(r) - 1 - r) / r ** 2 if abs(r) > eps else mp.mpf(1) / 
 P_exp2 = lambda r: (mp.power(2, r) - 1) / r if abs(r) > eps else mp.log(2) + r * mp.log(2) ** 2 / 2
 # log(1+f) = 2s + s*R, R = z*Q(z), z = s^2, s = f/(2+f), |s| <= (sqrt2-1)/(sqrt2+1)
 P_log = lambda z: ((2 * mp.atanh(mp.sqrt(z)) / mp.sqrt(z)) - 2) / z if z > eps else mp.mpf(2) / 3 + 2 * z / 5
-P_logpow = lambda z: (P_log(z) - mp.mpf(2) / 3) / z if z > eps else mp.mpf(2) / 5 + 2 * z / 7
 # tan(r) = r + r*z*P(z), z = r^2 in [0, (pi/4)^2]
 P_tan = lambda z: (mp.tan(mp.sqrt(z)) / mp.sqrt(z) - 1) / z if z > eps else mp.mpf(1) / 3 + 2 * z / 15
 
@@ -114,9 +113,8 @@ jobs = {
     "exp": (P_exp, -mp.log(2) / 2, mp.log(2) / 2, 4, 10),
     "exp2": (P_exp2, -mp.mpf(1) / 2, mp.mpf(1) / 2, 6, 11),
     "log": (P_log, 0, smax ** 2, 2, 6),
+    # tan: float only (double tan is cephes' rational function); the double degree is unused
     "tan": (P_tan, 0, (mp.pi / 4) ** 2, 6, 15),
-    # pow's extended log: log(1+f) = 2s + s^3 (2/3 + z Q2(z)), 2/3 kept in double-word
-    "logpow": (P_logpow, 0, smax ** 2, 3, 7),
 }
 if __name__ == "__main__":
     import sys

@@ -68,9 +68,11 @@ struct worst {
   }
 };
 
-/// One line per region: function, type, region, worst error and where; fails above 2 ulp.
+/// One line per region: function, type, region, worst error and where; fails above bound
+/// (2 ulp, the contract, unless a function documents a tighter one).
 template <class S>
-void report(char const* fn, std::string const& region, worst<S> const& w, bool two_args) {
+void report(char const* fn, std::string const& region, worst<S> const& w, bool two_args,
+            long double bound = bound_ulp) {
   char at[128];
   if (two_args)
     std::snprintf(at, sizeof at, "(%a, %a)", double(w.x), double(w.y));
@@ -80,7 +82,7 @@ void report(char const* fn, std::string const& region, worst<S> const& w, bool t
               region.c_str(), w.ulp, at, w.n);
   INFO(fn << " " << type_name<S> << " [" << region << "]: " << double(w.ulp) << " ulp at " << at);
   CHECK(w.n > 0);
-  CHECK(w.ulp <= bound_ulp);
+  CHECK(w.ulp <= bound);
 }
 
 template <class S>
@@ -519,8 +521,11 @@ void pow_suite() {
   constexpr bool F32 = sizeof(S) == 4;
   test::mpfr_oracle mp;
   auto const f = [](S x, S y) { return plume::pow(x, y); };
+  // pow documents tighter bounds than the contract: float within 0.54 ulp (rounded once from
+  // double), double within 0.75 (0.51 where the result is a normal number).
+  long double const pow_bound = F32 ? 0.54L : 0.75L;
   report("pow", "every pair of binades of x and y",
-         binade_grid<S>(mp, f, mpfr_pow, pow_shortcut<S>, F32 ? 2 : 1, 61), true);
+         binade_grid<S>(mp, f, mpfr_pow, pow_shortcut<S>, F32 ? 2 : 1, 61), true, pow_bound);
   long double const top = L::max_exponent, bottom = L::min_exponent - L::digits - 1;
   std::uniform_real_distribution<long double> tdist(bottom, top), u01(0, 1);
   {
@@ -537,7 +542,7 @@ void pow_suite() {
       S const y = static_cast<S>(std::exp(ly)) * ((rng() & 1) ? S(1) : S(-1));
       add2(w, mp, f, mpfr_pow, pow_shortcut<S>, x, y);
     }
-    report("pow", "x = 1 +- k ulp (k <= 4096), |y| >= 1e5", w, true);
+    report("pow", "x = 1 +- k ulp (k <= 4096), |y| >= 1e5", w, true, pow_bound);
   }
   {
     // |y| in [1e6, 1e9] (float) or [1e6, 1e15] (double) with the result in range: x from y.
@@ -552,7 +557,7 @@ void pow_suite() {
     }
     report("pow",
            F32 ? "|y| in [1e6, 1e9], result in range" : "|y| in [1e6, 1e15], result in range", w,
-           true);
+           true, pow_bound);
   }
   {
     // Integer y with negative x: |x| over 2^[-8, 8] and near 1, results mostly in range.
@@ -569,7 +574,7 @@ void pow_suite() {
       S const y = static_cast<S>(std::round((u01(rng) * 2 - 1) * ymag));
       add2(w, mp, f, mpfr_pow, pow_shortcut<S>, -ax, y);
     }
-    report("pow", "x < 0, integer y", w, true);
+    report("pow", "x < 0, integer y", w, true, pow_bound);
   }
   {
     // Results near the overflow edge and in the subnormal range, down to underflow.
@@ -585,7 +590,7 @@ void pow_suite() {
       S const y = static_cast<S>(t / std::log2(static_cast<long double>(x)));
       add2(w, mp, f, mpfr_pow, none, x, y);
     }
-    report("pow", "results near overflow, subnormal results", w, true);
+    report("pow", "results near overflow, subnormal results", w, true, pow_bound);
   }
   {
     worst<S> w;
@@ -593,7 +598,7 @@ void pow_suite() {
     std::uniform_real_distribution<long double> lx(-20, 20), yy(-30, 30);
     for (std::size_t i = 0; i < 20000 / slow; ++i)
       add2(w, mp, f, mpfr_pow, none, static_cast<S>(std::exp2(lx(rng))), static_cast<S>(yy(rng)));
-    report("pow", "x in 2^[-20, 20], |y| <= 30", w, true);
+    report("pow", "x in 2^[-20, 20], |y| <= 30", w, true, pow_bound);
   }
 }
 

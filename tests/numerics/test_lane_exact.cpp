@@ -5,9 +5,8 @@
 
 using namespace plume;
 
-
 PLUME_WIDE_TEST_CASE("every numerics function is lane-exact", "[numerics][lanes]",
-                        test::wide_real_types) {
+                     test::wide_real_types) {
   using T = TestType;
   using S = scalar_t<T>;
   auto const xs = test::random_values<S>(3000, 42);

@@ -315,17 +315,19 @@ PLUME_INLINE T tan(T x) noexcept {
   auto const red = detail::reduce_abs_half_pi(plume::abs(x));
   T const hi = red.hi;
   T const z = hi * hi;
-  // double's 16 coefficients by Estrin's scheme (a dependency chain of 4 multiply-adds, not
-  // Horner's 15: docs/performance.md has the figures); float's 7 stay with Horner.
-  T P;
-  if constexpr (std::size(C::tan_poly) > 8)
-    P = detail::estrin(z, C::tan_poly);
+  // float: a polynomial (7 coefficients); double: cephes' rational function (3 + 4
+  // coefficients and a division cost less than the 16-coefficient polynomial it replaced:
+  // docs/performance.md).
+  T small;
+  if constexpr (std::is_same_v<scalar_t<T>, double>)
+    small = hi * (z * (detail::horner(z, C::tan_p) / detail::horner(z, C::tan_q))) + red.lo;
   else
-    P = detail::horner(z, C::tan_poly);
-  T const small = hi * z * P + red.lo;
+    small = hi * z * detail::horner(z, C::tan_poly) + red.lo;
   T const t = hi + small;
   T const t_lo = small - (t - hi); // t + t_lo = plume::tan(hi + lo) to ~2^-2p
-  // Odd quadrants: -1/tan, with the low word folded in: -1/(t + e) = y + e y^2.
+  // Odd quadrants: -1/tan, with the low word folded in: -1/(t + e) = y + e y^2. (One
+  // division for both, -Q / (hi Q + hi z P + lo Q), rounds three times: 1.85 ulp seen,
+  // about 2.4 possible.)
   T const y = -plume::recip(t);
   T const cot = y + t_lo * y * y;
   auto const even = detail::bit_clear<T>(red.quadrant, 0);

@@ -49,15 +49,12 @@ struct math_constants<float> {
   static constexpr float atan2_huge = 0x1p125f;
   static constexpr float ln2_hi = 6.93145751953e-1f,
                          ln2_lo = 1.42860676533e-6f; // n*hi exact, |n| < 2^8
-  static constexpr float log2e = 1.44269502163f, log2e_lo = 1.92596303350e-8f;
+  static constexpr float log2e = 1.44269502163f;
   static constexpr float ivln2_hi = 1.44287109375f, ivln2_lo = -1.76052853931e-4f; // 12-bit hi
-  static constexpr float two_thirds_hi = 6.66666686535e-1f, two_thirds_lo = -1.98682155172e-8f;
   static constexpr float sqrt2 = 1.41421353816986083984375f;
   static constexpr float exp_clamp_lo = -110.0f, exp_clamp_hi = 100.0f; // beyond: 0 / inf
   static constexpr float exp2_clamp_lo = -160.0f, exp2_clamp_hi = 140.0f;
   static constexpr float expm1_clamp_lo = -30.0f; // below: -1
-  // pow: |y log2|x|| beyond which 2^(y log2|x|) over/underflows whatever its low word
-  static constexpr float pow_dw_limit = 256.0f;
   // float pow's double core. log2(1 + f) = s Q(z), s = f / (2 + f), z = s^2 <= 0.1716^2;
   // fit (weighted for relative error): 2^-37.8. 2^r = 1 + r P(r), |r| <= 1/2: 2^-28.9.
   // t = y log2 x is clamped to +-powf_t_limit: 2^t is then a normal double, far beyond
@@ -103,10 +100,6 @@ struct math_constants<float> {
   // log(1+f) = 2s + s z Q(z), s = f/(2+f), z = s^2 <= 0.0295; fit: relative error 2.76e-7
   // (2^-21.79)
   static constexpr float log_poly[] = {2.958051168e-01f, 3.998876405e-01f, 6.666668510e-01f};
-  // pow: log(1+f) = 2s + s^3 (2/3 + z Q2(z)), 2/3 in double-word; fit: relative error 2.38e-9
-  // (2^-28.65)
-  static constexpr float logpow_poly[] = {1.912063464e-01f, 2.220475345e-01f, 2.857153193e-01f,
-                                          3.999999990e-01f};
 };
 
 template <>
@@ -145,27 +138,22 @@ struct math_constants<double> {
   static constexpr double atan2_huge = 0x1p1021;
   static constexpr double ln2_hi = 0x1.62e42fefa3800p-1,
                           ln2_lo = 0x1.ef35793c76730p-45; // n*hi exact, |n| < 2^11
-  static constexpr double log2e = 0x1.71547652b82fep+0, log2e_lo = 0x1.777d0ffda0d24p-56;
+  static constexpr double log2e = 0x1.71547652b82fep+0;
   static constexpr double ivln2_hi = 0x1.7154700000000p+0,
                           ivln2_lo = 0x1.94ae0bf85ddf4p-22; // 21-bit hi
-  static constexpr double two_thirds_hi = 0x1.5555555555555p-1,
-                          two_thirds_lo = 0x1.5555555555555p-55;
   static constexpr double sqrt2 = 1.4142135623730951454746218587388;
   static constexpr double exp_clamp_lo = -760.0, exp_clamp_hi = 720.0;
   static constexpr double exp2_clamp_lo = -1100.0, exp2_clamp_hi = 1040.0;
   static constexpr double expm1_clamp_lo = -50.0;
-  static constexpr double pow_dw_limit = 2048.0;
   static constexpr double exp_fast_limit = 708.0, exp2_fast_limit = 1020.0;
   static constexpr double subnormal_scale = 18014398509481984.0; // 2^54
   static constexpr double subnormal_scale_log2 = 54.0;
-  // tan(r) = r + r z T(z), z = r^2 <= (pi/4)^2; fit: relative error 9.84e-19 (2^-59.82)
-  static constexpr double tan_poly[] = {
-      3.95006770388356456e-06,  -9.74742154162752028e-06, 1.95414337576863933e-05,
-      -1.02029009162134791e-05, 2.71131866092345035e-05,  3.39262938854915786e-05,
-      9.87698057525249120e-05,  2.38661289352648650e-04,  5.90112797185737619e-04,
-      1.45582332440429463e-03,  3.59212902344727266e-03,  8.86323547229556606e-03,
-      2.18694885381831919e-02,  5.39682539682165632e-02,  1.33333333333333609e-01,
-      3.33333333333333315e-01};
+  // tan(r) = r + r z P(z) / Q(z), z = r^2 <= (pi/4)^2, Q monic (cephes tan's minimax set;
+  // relative error of the ratio about 2^-56)
+  static constexpr double tan_p[] = {-1.30936939181383777646E4, 1.15351664838587416140E6,
+                                     -1.79565251976484877988E7};
+  static constexpr double tan_q[] = {1.0, 1.36812963470692954678E4, -1.32089234440210967447E6,
+                                     2.50083801823357915839E7, -5.38695755929454629881E7};
   // asin(s) = s + s R, R = z P(z) = u Q(u), z = s^2 <= 1/4, u = 4z; fit: error of s + s R
   // relative to s 2^-55.87
   static constexpr double asin_poly[] = {
@@ -204,12 +192,6 @@ struct math_constants<double> {
                                         1.81828903693279836e-01, 2.22222111158262681e-01,
                                         2.85714286261061767e-01, 3.99999999998991773e-01,
                                         6.66666666666666963e-01};
-  // pow: log(1+f) = 2s + s^3 (2/3 + z Q2(z)), 2/3 in double-word; fit: relative error 4.58e-18
-  // (2^-57.6)
-  static constexpr double logpow_poly[] = {1.17232880167178130e-01, 1.17062241405726880e-01,
-                                           1.33348052250659321e-01, 1.53845949511077218e-01,
-                                           1.81818183355180379e-01, 2.22222222216552329e-01,
-                                           2.85714285714293692e-01, 4.00000000000000022e-01};
 };
 
 template <class S>
