@@ -346,13 +346,13 @@ PLUME_INLINE D powf_core(D a, D y) noexcept {
   using Cd = math_constants<double>;
   auto const [e, f] = split_log_normal(a);
   D const s = f / (two<D>() + f);
-  D t = y * (e + s * detail::horner(s * s, Cf::powf_log2_poly));
+  D t = y * (e + s * detail::estrin(s * s, Cf::powf_log2_poly));
   t = clamp_range(t, splat<D>(-Cf::powf_t_limit), splat<D>(Cf::powf_t_limit));
   D const rm = splat<D>(Cd::round_magic);
   D const tt = t + rm;
   D const n = tt - rm; // round(t)
   D const r = t - n;
-  return scale_pow2_normal(one<D>() + r * detail::horner(r, Cf::powf_exp2_poly), tt);
+  return scale_pow2_normal(one<D>() + r * detail::estrin(r, Cf::powf_exp2_poly), tt);
 }
 
 /// pow's rules for a negative base and its overrides, applied to r = |x|^y: the sign for an

@@ -320,9 +320,9 @@ PLUME_INLINE T tan(T x) noexcept {
   // docs/performance.md).
   T small;
   if constexpr (std::is_same_v<scalar_t<T>, double>)
-    small = hi * (z * (detail::horner(z, C::tan_p) / detail::horner(z, C::tan_q))) + red.lo;
+    small = hi * (z * (detail::estrin(z, C::tan_p) / detail::estrin(z, C::tan_q))) + red.lo;
   else
-    small = hi * z * detail::horner(z, C::tan_poly) + red.lo;
+    small = hi * z * detail::estrin(z, C::tan_poly) + red.lo;
   T const t = hi + small;
   T const t_lo = small - (t - hi); // t + t_lo = plume::tan(hi + lo) to ~2^-2p
   // Odd quadrants: -1/tan, with the low word folded in: -1/(t + e) = y + e y^2. (One
