@@ -96,13 +96,17 @@ void classify_edges(std::vector<std::array<std::uint32_t, 3>> const& idx,
   }
 }
 
+/// (b - a) x (c - a) in double: the float cross product of a large triangle overflows (its
+/// length, or the products in it), which would give a zero or NaN normal.
+DVec3 scaled_normal_in_double(Triangle const& t) noexcept {
+  DVec3 const da{t.a.x, t.a.y, t.a.z}, db{t.b.x, t.b.y, t.b.z}, dc{t.c.x, t.c.y, t.c.z};
+  return (db - da).cross(dc - da);
+}
+
 } // namespace
 
 Vec3 detail::unit_face_normal(Triangle const& t) noexcept {
-  // In double: the float cross product of a large triangle overflows (its length, or the
-  // products in it), which would give a zero or NaN normal.
-  DVec3 const da{t.a.x, t.a.y, t.a.z}, db{t.b.x, t.b.y, t.b.z}, dc{t.c.x, t.c.y, t.c.z};
-  DVec3 const dn = (db - da).cross(dc - da).normalize_or_zero();
+  DVec3 const dn = scaled_normal_in_double(t).normalize_or_zero();
   return Vec3{float(dn.x), float(dn.y), float(dn.z)};
 }
 
@@ -145,9 +149,7 @@ MeshBuildResult TriangleMesh::build(std::span<Vec3 const> vertices,
     if (!std::isfinite(len2)) {
       // The float cross product overflowed (inf, or inf - inf): the area decides in double,
       // where it cannot.
-      DVec3 const da{tri.a.x, tri.a.y, tri.a.z}, db{tri.b.x, tri.b.y, tri.b.z},
-          dc{tri.c.x, tri.c.y, tri.c.z};
-      DVec3 const dn = (db - da).cross(dc - da);
+      DVec3 const dn = scaled_normal_in_double(tri);
       has_area = dn.dot(dn) >= double(std::numeric_limits<float>::min());
     }
     if (!has_area) {

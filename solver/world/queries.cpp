@@ -421,9 +421,8 @@ std::optional<WorldShapeHit> cast_against_body(BodyShape const& body, Iso3 const
     float const closing = -plane.normal.dot(motion);
     if (gap <= 0.0f) {
       // As the GJK cast: a start in contact is ignored when the motion leaves the plane
-      // or runs along it within 1e-3 rad.
-      hit = cfg.stop_at_penetration || closing * closing > 1e-6f * motion.dot(motion);
-      hit = hit && (cfg.stop_at_penetration || closing > 0.0f);
+      // or runs along it.
+      hit = cfg.stop_at_penetration || moves_into_surface(closing, motion.dot(motion));
       h.toi = 0.0f;
       h.penetrating = true;
     } else if (closing > 0.0f && gap <= closing * cfg.max_toi) {

@@ -108,6 +108,19 @@ struct GShapeCastHit {
   T iterations;
 };
 
+/// Whether a motion moves into a surface it touches: its speed into the surface (`closing`,
+/// the motion against the surface's outward normal, positive inward) is positive and steeper
+/// than 1e-3 rad (closing^2 > 1e-6 |motion|^2, with motion_length_squared = |motion|^2).
+/// Casts and move queries ignore a start in contact that does not (ShapeCastConfig::
+/// stop_at_penetration false): the motion leaves the surface or runs along it, within the
+/// rounding a contact normal carries. NaN: false.
+template <Real T>
+PLUME_INLINE mask_t<T> moves_into_surface(T closing, T motion_length_squared) noexcept {
+  using S = scalar_t<T>;
+  return (closing > splat<T>(S(0))) &
+         (closing * closing > splat<T>(S(1e-6)) * motion_length_squared);
+}
+
 struct ShapeCastConfig {
   float max_toi = 1.0f;         ///< in units of motion
   float target_distance = 0.0f; ///< report contact at this gap (a skin), length units
@@ -425,7 +438,6 @@ PLUME_FLATTEN GShapeCastHit<T>
 shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const& b,
            GIso3<T> const& pose_b, ShapeCastConfig const& cfg = {}) noexcept {
   using S = scalar_t<T>;
-  T zero = plume::zero<T>();
   detail::placed<A, T> const sa{a, pose_a};
   detail::placed<B, T> const sb{b, pose_b};
   T ra = a.core_radius(), rb = b.core_radius();
@@ -460,8 +472,7 @@ shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const
       GVec3<T>::select(cores_overlap, GVec3<T>{}, GVec3<T>::select(c.started_inside, sep, n));
   // Not moving further in: out along the contact normal, or along the surface (within 1e-3
   // radians: the normal of a started-inside cast carries GJK's rounding, about 1e-5).
-  T nm = normal.dot(motion_a);
-  mask_t<T> along = (nm <= zero) | (nm * nm <= splat<T>(1e-6) * motion_a.dot(motion_a));
+  mask_t<T> along = !moves_into_surface(normal.dot(motion_a), motion_a.dot(motion_a));
   mask_t<T> separating = c.started_inside & (!cores_overlap) & along;
   mask_t<T> ignore = cfg.stop_at_penetration ? no_lanes<T>() : separating;
   out.hit = c.hit & (!ignore);

@@ -91,8 +91,7 @@ public:
               mcfg.prediction = 0.0f;
               Manifold const m = contact_manifold(s, c.pose, shape, pose, mcfg);
               if (m.empty() || m.failed || !(m.normal.length_squared() > 0.0f)) return;
-              float const out = m.normal.dot(motion);
-              if (out >= 0.0f || out * out <= 1e-6f * motion.length_squared()) return;
+              if (!moves_into_surface(-m.normal.dot(motion), motion.length_squared())) return;
               normal = m.normal;
               point = m.begin()->point_a;
             }

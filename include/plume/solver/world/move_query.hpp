@@ -114,7 +114,7 @@ private:
           [&](BodyId, Manifold const& m) {
             if (m.empty() || !(m.normal.length_squared() > 0.0f)) return true;
             float const out = m.normal.dot(motion);
-            if (out < steepest && out * out > 1e-6f * motion.length_squared()) {
+            if (out < steepest && moves_into_surface(-out, motion.length_squared())) {
               steepest = out;
               normal = m.normal;
               point = m.begin()->point_a;
