@@ -763,6 +763,45 @@ TEST_CASE("cast providers give a unit normal when the cores overlap at the start
   CHECK(next->normal.distance(Vec3{-1, 0, 0}) <= 1e-5f);
 }
 
+TEST_CASE("cast providers weigh every manifold of a mesh the cores overlap",
+          "[character][move][mesh]") {
+  // An L of a floor (y = 0, facing +y) and a wall (x = 1, facing -x) in one mesh body. A
+  // capsule's core crosses the floor and its radius reaches into the wall: the cast has no
+  // normal, and the mesh gives one manifold per face. The hit is the one the motion runs
+  // into: the wall for +x, the floor for -y; a motion that leaves or runs along both is no
+  // hit. (Looking at the first manifold only let one of the two through, whichever came
+  // first.)
+  std::vector<Vec3> const v = {{-4, 0, -4}, {1, 0, -4}, {-4, 0, 4}, {1, 0, 4},
+                               {1, 0, -4},  {1, 4, -4}, {1, 0, 4},  {1, 4, 4}};
+  std::vector<std::uint32_t> const idx = {0, 2, 1, 1, 2, 3, 4, 6, 5, 5, 6, 7};
+  auto built = TriangleMesh::build(v, idx);
+  REQUIRE(built.ok());
+  World w;
+  REQUIRE(w.create_body(
+      {.type = BodyType::static_body,
+       .shape = MeshShape{std::make_shared<TriangleMesh const>(std::move(built.mesh))}}));
+  WorldMoveQuery const scene(w);
+  Capsule const thin{0.5f, 0.3f};
+  Iso3 const at = Iso3::from_translation({0.8f, 0.45f, 0}); // core from y = -0.05 to 0.95
+  auto const into_wall = scene.cast(BodyShape{thin}, at, Vec3{1, 0, 0}, {});
+  REQUIRE(into_wall);
+  CHECK(into_wall->toi == 0.0f);
+  CHECK(into_wall->normal.distance(Vec3{-1, 0, 0}) <= 1e-4f);
+  auto const into_floor = scene.cast(BodyShape{thin}, at, Vec3{0, -1, 0}, {});
+  REQUIRE(into_floor);
+  CHECK(into_floor->toi == 0.0f);
+  CHECK(into_floor->normal.distance(Vec3{0, 1, 0}) <= 1e-4f);
+  // Into both: the steeper one (the floor for mostly down, the wall for mostly +x).
+  auto const down = scene.cast(BodyShape{thin}, at, Vec3{0.2f, -1, 0}, {});
+  auto const side = scene.cast(BodyShape{thin}, at, Vec3{1, -0.2f, 0}, {});
+  REQUIRE(down);
+  REQUIRE(side);
+  CHECK(down->normal.distance(Vec3{0, 1, 0}) <= 1e-4f);
+  CHECK(side->normal.distance(Vec3{-1, 0, 0}) <= 1e-4f);
+  CHECK(!scene.cast(BodyShape{thin}, at, Vec3{-1, 0, 0}, {}));
+  CHECK(!scene.cast(BodyShape{thin}, at, Vec3{0, 0, 1}, {}));
+}
+
 TEST_CASE("move and slide: config scaled to centimetres gives the same path, scaled",
           "[character][move]") {
   World m, cm;
