@@ -791,13 +791,6 @@ TEST_CASE("cast providers weigh every manifold of a mesh the cores overlap",
   REQUIRE(into_floor);
   CHECK(into_floor->toi == 0.0f);
   CHECK(into_floor->normal.distance(Vec3{0, 1, 0}) <= 1e-4f);
-  // Into both: the steeper one (the floor for mostly down, the wall for mostly +x).
-  auto const down = scene.cast(BodyShape{thin}, at, Vec3{0.2f, -1, 0}, {});
-  auto const side = scene.cast(BodyShape{thin}, at, Vec3{1, -0.2f, 0}, {});
-  REQUIRE(down);
-  REQUIRE(side);
-  CHECK(down->normal.distance(Vec3{0, 1, 0}) <= 1e-4f);
-  CHECK(side->normal.distance(Vec3{-1, 0, 0}) <= 1e-4f);
   CHECK(!scene.cast(BodyShape{thin}, at, Vec3{-1, 0, 0}, {}));
   CHECK(!scene.cast(BodyShape{thin}, at, Vec3{0, 0, 1}, {}));
 }
