@@ -46,7 +46,8 @@ using namespace plume;
   PLUME_KERNEL_LOOP(vec3_normalize, W, T, GVec3<T>, o[i].normalize())                              \
   PLUME_KERNEL_LOOP(mat3_mul_vec3, W, T, GVec3<T>, GMat3<T>::from_quat(q[i]) * o[i])               \
   PLUME_KERNEL_LOOP(asin, W, T, T, plume::asin(r[i]))                                              \
-  PLUME_KERNEL_LOOP(acos, W, T, T, plume::acos(r[i]))
+  PLUME_KERNEL_LOOP(acos, W, T, T, plume::acos(r[i]))                                              \
+  PLUME_KERNEL_LOOP(pow, W, T, T, plume::pow(r[i], h[i]))
 
 #define PLUME_KERNEL_LOOPS_OF(T, lanes) PLUME_KERNEL_LOOPS(x##lanes, T)
 PLUME_FOR_EACH_F32_TYPE(PLUME_KERNEL_LOOPS_OF)
