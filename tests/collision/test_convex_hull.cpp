@@ -356,3 +356,58 @@ TEST_CASE("hull: the tolerance has a floor, and a set thinner than it is coplana
   CHECK(ConvexHull::build(thin, 0x1.a3ef7cp-9f).error == HullError::coplanar);
   CHECK(ConvexHull::build(thin).error == HullError::none); // the default tolerance: a volume
 }
+
+TEST_CASE("hull: merged faces stay convex, planar and of three vertices or more",
+          "[collision][hull][fuzz]") {
+  // Fuzz findings (convex_hull regress-nonconvex-face, regress-two-vertex-face): merging the
+  // coplanar triangles of the triangulation by the seed triangle's plane alone gave a face
+  // that turned the wrong way by 7 degrees, and near-duplicate corners a face of two
+  // vertices. Unsound merged faces now go back to their triangles.
+  std::vector<Vec3> nonconvex = {
+      Vec3{-0x1.766776p-1f, 0x1.63c764p-1f, -0x1.f3cdf4p-2f},
+      Vec3{-0x1.2b81p-7f, -0x1.9dd1ap-4f, 0x1.367538p-2f},
+      Vec3{0x1.27a728p-1f, -0x1.1fe32p-1f, -0x1.e9b5e8p-2f},
+      Vec3{-0x1p+0f, -0x1.ffdp-1f, -0x1.fb57fcp-1f},
+      Vec3{-0x1.ffe8p-1f, -0x1.766776p-1f, 0x1.63c764p-1f},
+      Vec3{0x1.0e1b1p-1f, -0x1.f59df4p-2f, -0x1.2b81p-7f},
+      Vec3{-0x1.9dd1ap-4f, 0x1.367538p-2f, 0x1.27a728p-1f},
+      Vec3{-0x1.9fe3ap-1f, 0x1.d0a1cp-5f, -0x1.f8dbf8p-1f},
+      Vec3{-0x1.ffe8p-1f, -0x1.766776p-1f, 0x1.63c764p-1f},
+      Vec3{0x1.0e1b1p-1f, -0x1.f59df4p-2f, -0x1.2b81p-7f},
+      Vec3{-0x1.9dd1ap-4f, 0x1.367538p-2f, 0x1.0ba70cp-1f},
+      Vec3{-0x1.9fe3ap-1f, -0x1p+0f, -0x1.ffe8p-1f},
+      Vec3{-0x1.ffbp-1f, -0x1.e7fbe8p-1f, 0x1.a805a8p-2f},
+      Vec3{0x1.f5fbf4p-1f, 0x1.31233p-1f, -0x1.bd95bcp-2f},
+      Vec3{-0x1.eb4decp-2f, 0x1.d01fdp-1f, 0x1.25bb24p-1f},
+      Vec3{-0x1.6cab6cp-1f, 0x1.58516p-4f, -0x1.effffp-1f},
+      Vec3{0x1.b395bp-2f, 0x1.0b891p-3f, 0x1.f0ebfp-1f},
+      Vec3{-0x1.777778p-1f, -0x1.777778p-1f, -0x1.77f778p-1f},
+      Vec3{-0x1.777778p-1f, -0x1.475948p-3f, 0x1.6f097p-3f},
+      Vec3{-0x1.2e332ep-1f, -0x1.0f091p-3f, -0x1.e24fe2p-1f},
+      Vec3{0x1.960d98p-2f, -0x1.9b1f9cp-1f, 0x1.df31ep-4f},
+      Vec3{-0x1.ae85bp-2f, -0x1.fbfdfcp-2f, 0x1p+0f},
+      Vec3{0x1p+0f, 0x1p+0f, -0x1.ffd8p-1f},
+      Vec3{-0x1p+0f, 0x1p+0f, 0x1p+0f},
+      Vec3{0x1p+0f, 0x1p+0f, 0x1p+0f},
+      Vec3{-0x1.ffbcp-1f, -0x1p+0f, -0x1p+0f},
+      Vec3{-0x1p+0f, 0x1p+0f, 0x1.dfdfep-1f},
+      Vec3{0x1.dfdfep-1f, 0x1.dfdfep-1f, 0x1.dfdfep-1f},
+      Vec3{0x1.dfdfep-1f, 0x1.dfdfep-1f, 0x1.5bf558p-2f},
+      Vec3{-0x1.971398p-1f, -0x1.f753f8p-1f, 0x1.41c54p-2f},
+      Vec3{-0x1.7e2b7ep-1f, -0x1.ae85bp-2f, -0x1.e9ffeap-1f},
+  };
+  nonconvex.insert(nonconvex.end(), 28, Vec3{-0x1p+0f, -0x1p+0f, -0x1p+0f});
+  std::vector<Vec3> two_vertex = {
+      Vec3{-0x1.fffcp-6f, -0x1p-5f, -0x1.fffcp-6f},
+      Vec3{-0x1p-5f, -0x1.f9c7fap-6f, 0x1.0db70cp-6f},
+      Vec3{0x1.5a2b5cp-6f, -0x1.9fd1ap-9f, -0x1.f9c7fap-6f},
+      Vec3{0x1.ce71cp-9f, 0x1.0db70cp-6f, 0x1.5a2b5cp-6f},
+      Vec3{-0x1.fca7fcp-6f, -0x1p-5f, -0x1p-5f},
+  };
+  two_vertex.insert(two_vertex.end(), 42, Vec3{-0x1p-5f, -0x1p-5f, -0x1p-5f});
+  for (auto const* pts : {&nonconvex, &two_vertex}) {
+    auto const built = ConvexHull::build(*pts);
+    REQUIRE(built);
+    check_hull(built.hull, *pts);
+  }
+}

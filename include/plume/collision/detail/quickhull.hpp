@@ -377,10 +377,13 @@ inline face_groups merge_coplanar(state const& b) {
 }
 
 /// The boundary loop of each face: the vertices of its edges whose neighbour is in another
-/// face, in order.
-inline std::vector<std::vector<int>> boundary_loops(state const& b, face_groups const& g) {
+/// face, in order. A face whose boundary is not one loop (a ring of triangles) gets a loop
+/// shorter than its boundary: `whole` says which are complete.
+inline std::vector<std::vector<int>> boundary_loops(state const& b, face_groups const& g,
+                                                    std::vector<bool>& whole) {
   std::size_t const nf = g.groups.size();
   std::vector<std::vector<int>> loops(nf);
+  whole.assign(nf, true);
   for (std::size_t f = 0; f < nf; ++f) {
     std::map<int, int> next;
     for (int u : g.groups[f])
@@ -395,6 +398,7 @@ inline std::vector<std::vector<int>> boundary_loops(state const& b, face_groups 
       loops[f].push_back(v);
       v = next[v];
     } while (v != start && loops[f].size() <= next.size());
+    whole[f] = v == start && loops[f].size() == next.size();
   }
   return loops;
 }
@@ -482,12 +486,72 @@ void link_faces(std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t>
 
 /// The finished triangulation as a hull's data: coplanar triangles merged into polygons,
 /// straight-edge vertices dropped, faces and edges linked.
+/// Whether a merged face, as its loop of kept vertices, is a face the hull can have: at least
+/// three vertices, each within 2 tol of the loop's plane; convex (every corner turns left
+/// about the normal, within 2 tol of the chord); and every vertex of the triangulation
+/// (`all`, the dropped straight ones too) at most 2 tol above it. Merging by the seed's plane
+/// alone can break each (a dropped vertex outside the plane of the rest, a loop turning back,
+/// a face left with two vertices).
+inline bool face_is_sound(state const& b, std::vector<int> const& l, std::vector<int> const& all) {
+  auto const [n, c] = newell_plane(b, l);
+  if (!(std::abs(n.length() - 1.0) < 1e-6)) return false; // (fewer than 3 vertices: no normal)
+  double const d = n.dot(c), slack = 2.0 * b.tol;
+  for (std::size_t i = 0; i < l.size(); ++i) {
+    DVec3 const& p0 = b.p[std::size_t(l[i])];
+    DVec3 const& p1 = b.p[std::size_t(l[(i + 1) % l.size()])];
+    DVec3 const& p2 = b.p[std::size_t(l[(i + 2) % l.size()])];
+    if (std::abs(n.dot(p0) - d) > slack) return false;
+    DVec3 const e0 = p1 - p0, e1 = p2 - p1;
+    if (e0.cross(e1).dot(n) < -slack * (e0.length() + e1.length())) return false;
+  }
+  for (int v : all)
+    if (n.dot(b.p[std::size_t(v)]) - d > slack) return false;
+  return true;
+}
+
 template <ScalarReal S>
 hull_data<S> polygon_hull(state const& b) {
   hull_data<S> h;
-  face_groups const groups = merge_coplanar(b);
-  std::vector<std::vector<int>> loops = boundary_loops(b, groups);
-  std::map<int, std::uint32_t> index = drop_straight_vertices(loops);
+  face_groups groups = merge_coplanar(b);
+  std::vector<std::vector<int>> loops;
+  std::map<int, std::uint32_t> index;
+  // Faces that are not sound go back to their triangles (each a sound face: a facet of the
+  // triangulation, every point within tol below it), until every face is; at worst every
+  // face is a triangle.
+  for (;;) {
+    std::vector<bool> whole;
+    loops = boundary_loops(b, groups, whole);
+    std::vector<int> all;
+    for (auto const& l : loops)
+      all.insert(all.end(), l.begin(), l.end());
+    std::sort(all.begin(), all.end());
+    all.erase(std::unique(all.begin(), all.end()), all.end());
+    index = drop_straight_vertices(loops);
+    std::vector<std::size_t> unsound;
+    for (std::size_t f = 0; f < loops.size(); ++f) {
+      if (groups.groups[f].size() > 1) {
+        if (!whole[f] || !face_is_sound(b, loops[f], all)) unsound.push_back(f);
+      } else if (loops[f].size() < 3) {
+        // A triangle that lost a corner to a merged neighbour wrapped round it: that
+        // neighbour goes back to triangles.
+        for (int nb : b.tris[std::size_t(groups.groups[f][0])].nb) {
+          std::size_t const g = std::size_t(groups.face_of[std::size_t(nb)]);
+          if (groups.groups[g].size() > 1) unsound.push_back(g);
+        }
+      }
+    }
+    std::sort(unsound.begin(), unsound.end());
+    unsound.erase(std::unique(unsound.begin(), unsound.end()), unsound.end());
+    if (unsound.empty()) break;
+    for (std::size_t f : unsound) {
+      std::vector<int> const tris = groups.groups[f];
+      groups.groups[f] = {tris[0]};
+      for (std::size_t k = 1; k < tris.size(); ++k) {
+        groups.face_of[std::size_t(tris[k])] = int(groups.groups.size());
+        groups.groups.push_back({tris[k]});
+      }
+    }
+  }
   emit_vertices(b, index, h);
   auto edge_face = emit_faces(b, loops, index, h);
   link_faces(edge_face, h);
