@@ -484,18 +484,17 @@ void link_faces(std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t>
   }
 }
 
-/// The finished triangulation as a hull's data: coplanar triangles merged into polygons,
-/// straight-edge vertices dropped, faces and edges linked.
 /// Whether a merged face, as its loop of kept vertices, is a face the hull can have: at least
-/// three vertices, each within 2 tol of the loop's plane; convex (every corner turns left
-/// about the normal, within 2 tol of the chord); and every vertex of the triangulation
-/// (`all`, the dropped straight ones too) at most 2 tol above it. Merging by the seed's plane
-/// alone can break each (a dropped vertex outside the plane of the rest, a loop turning back,
+/// three vertices, each within 4 tol of the loop's plane; convex (every corner turns left
+/// about the normal, within 4 tol of the chord); and every vertex of the triangulation
+/// (`all`, the dropped straight ones too) at most 4 tol above it (the bounds the hull's tests
+/// hold every face to; tighter ones split faces whose triangles are worse). Merging by the seed's
+/// plane alone can break each (a dropped vertex outside the plane of the rest, a loop turning back,
 /// a face left with two vertices).
 inline bool face_is_sound(state const& b, std::vector<int> const& l, std::vector<int> const& all) {
   auto const [n, c] = newell_plane(b, l);
   if (!(std::abs(n.length() - 1.0) < 1e-6)) return false; // (fewer than 3 vertices: no normal)
-  double const d = n.dot(c), slack = 2.0 * b.tol;
+  double const d = n.dot(c), slack = 4.0 * b.tol;
   for (std::size_t i = 0; i < l.size(); ++i) {
     DVec3 const& p0 = b.p[std::size_t(l[i])];
     DVec3 const& p1 = b.p[std::size_t(l[(i + 1) % l.size()])];
@@ -509,6 +508,8 @@ inline bool face_is_sound(state const& b, std::vector<int> const& l, std::vector
   return true;
 }
 
+/// The finished triangulation as a hull's data: coplanar triangles merged into polygons,
+/// straight-edge vertices dropped, faces and edges linked.
 template <ScalarReal S>
 hull_data<S> polygon_hull(state const& b) {
   hull_data<S> h;
