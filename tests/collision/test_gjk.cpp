@@ -11,6 +11,7 @@
 #include <plume/collision/shapes.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -848,4 +849,28 @@ PLUME_WIDE_TEST_CASE("GJK queries are lane-exact", "[collision][gjk][lanes]", wi
     }
   }
   CHECK(failures == 0);
+}
+
+TEST_CASE("moves_into_surface: inward and steeper than 1e-3 rad; NaN keeps the contact",
+          "[gjk][cast]") {
+  float const nan = std::numeric_limits<float>::quiet_NaN();
+  CHECK(moves_into_surface(1.0f, 1.0f));
+  CHECK(!moves_into_surface(-1.0f, 1.0f));   // leaves
+  CHECK(!moves_into_surface(0.0f, 1.0f));    // along
+  CHECK(!moves_into_surface(0.5e-3f, 1.0f)); // along within 1e-3 rad
+  CHECK(moves_into_surface(2e-3f, 1.0f));
+  CHECK(moves_into_surface(nan, 1.0f)); // unknown: kept, never passed through
+  CHECK(moves_into_surface(1.0f, nan));
+  plume::for_each_type<test::f32_types>([&]<class T>() {
+    T const closing = plume::from_array<T>([nan] {
+      std::array<float, lanes_v<T>> a{};
+      for (std::size_t i = 0; i < a.size(); ++i)
+        a[i] = i % 4 == 0 ? 1.0f : i % 4 == 1 ? -1.0f : i % 4 == 2 ? 0.5e-3f : nan;
+      return a;
+    }());
+    auto const m = moves_into_surface(closing, plume::splat<T>(1.0f));
+    for (std::size_t i = 0; i < lanes_v<T>; ++i)
+      CHECK(bool((plume::bitmask(m) >> i) & 1) ==
+            moves_into_surface(plume::lane(closing, i), 1.0f));
+  });
 }

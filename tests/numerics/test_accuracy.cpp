@@ -522,8 +522,9 @@ void pow_suite() {
   test::mpfr_oracle mp;
   auto const f = [](S x, S y) { return plume::pow(x, y); };
   // pow documents tighter bounds than the contract: float within 0.54 ulp (rounded once from
-  // double), double within 0.75 (0.51 where the result is a normal number).
-  long double const pow_bound = F32 ? 0.54L : 0.75L;
+  // double), double within 0.76 (0.51 where the result is a normal number; a subnormal result
+  // is rounded twice, 0.5 + 0.51 / 2, and 0.7525 has been seen).
+  long double const pow_bound = F32 ? 0.54L : 0.76L;
   report("pow", "every pair of binades of x and y",
          binade_grid<S>(mp, f, mpfr_pow, pow_shortcut<S>, F32 ? 2 : 1, 61), true, pow_bound);
   long double const top = L::max_exponent, bottom = L::min_exponent - L::digits - 1;

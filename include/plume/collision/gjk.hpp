@@ -113,12 +113,12 @@ struct GShapeCastHit {
 /// than 1e-3 rad (closing^2 > 1e-6 |motion|^2, with motion_length_squared = |motion|^2).
 /// Casts and move queries ignore a start in contact that does not (ShapeCastConfig::
 /// stop_at_penetration false): the motion leaves the surface or runs along it, within the
-/// rounding a contact normal carries. NaN: false.
+/// rounding a contact normal carries. NaN: true (the contact is kept, the safe side).
 template <Real T>
 PLUME_INLINE mask_t<T> moves_into_surface(T closing, T motion_length_squared) noexcept {
   using S = scalar_t<T>;
-  return (closing > splat<T>(S(0))) &
-         (closing * closing > splat<T>(S(1e-6)) * motion_length_squared);
+  return !((closing <= splat<T>(S(0))) |
+           (closing * closing <= splat<T>(S(1e-6)) * motion_length_squared));
 }
 
 struct ShapeCastConfig {

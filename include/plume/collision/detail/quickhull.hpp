@@ -486,11 +486,12 @@ void link_faces(std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t>
 
 /// Whether a merged face, as its loop of kept vertices, is a face the hull can have: at least
 /// three vertices, each within 4 tol of the loop's plane; convex (every corner turns left
-/// about the normal, within 4 tol of the chord); and every vertex of the triangulation
-/// (`all`, the dropped straight ones too) at most 4 tol above it (the bounds the hull's tests
-/// hold every face to; tighter ones split faces whose triangles are worse). Merging by the seed's
-/// plane alone can break each (a dropped vertex outside the plane of the rest, a loop turning back,
-/// a face left with two vertices).
+/// about the normal, or lies within 4 tol of the chord from its predecessor to its
+/// successor); and every vertex of the triangulation (`all`, the dropped straight ones and
+/// those inside merged faces too) at most 4 tol above it (with 2 tol, merged faces no worse
+/// than their own triangles were split, and three fuzz inputs that passed failed). Merging by the
+/// seed's plane alone can break each (a dropped vertex outside the plane of the rest, a loop
+/// turning back, a face left with two vertices).
 inline bool face_is_sound(state const& b, std::vector<int> const& l, std::vector<int> const& all) {
   auto const [n, c] = newell_plane(b, l);
   if (!(std::abs(n.length() - 1.0) < 1e-6)) return false; // (fewer than 3 vertices: no normal)
@@ -500,8 +501,9 @@ inline bool face_is_sound(state const& b, std::vector<int> const& l, std::vector
     DVec3 const& p1 = b.p[std::size_t(l[(i + 1) % l.size()])];
     DVec3 const& p2 = b.p[std::size_t(l[(i + 2) % l.size()])];
     if (std::abs(n.dot(p0) - d) > slack) return false;
+    // |e0 x e1 . n| / |p2 - p0| is p1's distance from the chord.
     DVec3 const e0 = p1 - p0, e1 = p2 - p1;
-    if (e0.cross(e1).dot(n) < -slack * (e0.length() + e1.length())) return false;
+    if (e0.cross(e1).dot(n) < -slack * (p2 - p0).length()) return false;
   }
   for (int v : all)
     if (n.dot(b.p[std::size_t(v)]) - d > slack) return false;
@@ -516,17 +518,18 @@ hull_data<S> polygon_hull(state const& b) {
   face_groups groups = merge_coplanar(b);
   std::vector<std::vector<int>> loops;
   std::map<int, std::uint32_t> index;
-  // Faces that are not sound go back to their triangles (each a sound face: a facet of the
-  // triangulation, every point within tol below it), until every face is; at worst every
-  // face is a triangle.
+  // Every vertex of the triangulation, for the soundness test.
+  std::vector<int> all;
+  for (tri const& t : b.tris)
+    if (t.alive) all.insert(all.end(), t.v.begin(), t.v.end());
+  std::sort(all.begin(), all.end());
+  all.erase(std::unique(all.begin(), all.end()), all.end());
+  // Merged faces that are not sound go back to their triangles, until every merged face is;
+  // at worst every face is a triangle (a facet of the triangulation as quickhull left it,
+  // not tested again: one with a vertex above it is the open finding in docs/fuzzing.md).
   for (;;) {
     std::vector<bool> whole;
     loops = boundary_loops(b, groups, whole);
-    std::vector<int> all;
-    for (auto const& l : loops)
-      all.insert(all.end(), l.begin(), l.end());
-    std::sort(all.begin(), all.end());
-    all.erase(std::unique(all.begin(), all.end()), all.end());
     index = drop_straight_vertices(loops);
     std::vector<std::size_t> unsound;
     for (std::size_t f = 0; f < loops.size(); ++f) {
