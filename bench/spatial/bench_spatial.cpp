@@ -16,8 +16,12 @@
 //   spatial_tree/stress10k/<mode>        one frame per iteration: 10,000 boxes on a grid move
 //                                         (random walk), then optimize(<mode>); items = proxies.
 //   spatial_ray/terrain1m/plume/x<W>     closest hit of each ray on a TriangleMesh of 999,698
-//                                         triangles (TriangleMesh::ray_cast_with a GWideBvh<T> of
-//                                         its tree, watertight triangle casts at the leaves).
+//                                         triangles (TriangleMesh::ray_cast_blocks_with its
+//                                         make_block_bvh<T>(): leaves of up to
+//                                         triangle_block_size triangles, each cast lanes_v<T> at
+//                                         a time by the watertight triangle cast).
+//   spatial_ray_leaf1/terrain1m/plume/x<W>  the same through a GWideBvh<T> of the mesh's tree:
+//                                         one triangle per leaf (as before the blocks).
 //   spatial_ray/terrain1m/embree/x1      rtcIntersect1, RTC_GEOMETRY_TYPE_TRIANGLE with the same
 //                                         vertices and indices.
 //   spatial_build/terrain1m/plume/bvh    TriangleMesh::build (validation, adjacency, tree insert
@@ -508,23 +512,27 @@ struct terrain_scene {
       dir.push_back(d);
     }
     reference.resize(R);
-    cast(plume::GWideBvh<float>(mesh.tree()), reference.data());
+    cast<false>(plume::GWideBvh<float>(mesh.tree()), reference.data());
   }
   static float height(float x, float z) {
     return 4.0f * std::sin(0.11f * x) * std::cos(0.13f * z) +
            1.5f * std::sin(0.37f * x + 0.21f * z) * std::cos(0.29f * z - 0.17f * x) +
            0.5f * std::sin(1.3f * x) * std::sin(1.1f * z) + 0.15f * std::cos(3.7f * x + 2.9f * z);
   }
-  template <class T>
+  /// Blocks: bvh is a make_block_bvh() copy (leaves of triangle blocks), else a copy of
+  /// tree() (a triangle per leaf).
+  template <bool Blocks, class T>
   void cast(plume::GWideBvh<T> const& bvh, TreeRayHit* out) const {
-    plume_bench_cast_terrain(mesh, bvh, origin.data(), dir.data(), out);
+    plume_bench_cast_terrain<Blocks>(mesh, bvh, origin.data(), dir.data(), out);
   }
-  template <class T>
+  template <bool Blocks, class T>
   [[gnu::noinline]] static void
   plume_bench_cast_terrain(plume::TriangleMesh const& m, plume::GWideBvh<T> const& bvh,
                            Vec3 const* o, Vec3 const* d, TreeRayHit* out) {
     for (std::size_t i = 0; i < R; ++i) {
-      plume::MeshRayHit const h = m.ray_cast_with(bvh, plume::Ray3{o[i], d[i]}, max_toi_all);
+      plume::Ray3 const ray{o[i], d[i]};
+      plume::MeshRayHit const h = Blocks ? m.ray_cast_blocks_with(bvh, ray, max_toi_all)
+                                         : m.ray_cast_with(bvh, ray, max_toi_all);
       TreeRayHit t;
       if (h.hit()) t.proxy = m.source_triangle(h.triangle), t.toi = h.toi;
       out[i] = t;
@@ -589,14 +597,16 @@ embree_terrain const& terrain_embree() {
 }
 #endif
 
-template <class T>
+template <class T, bool Blocks>
 void register_terrain_rays() {
-  std::string const name = "spatial_ray/terrain1m/plume/x" + std::to_string(plume::lanes_v<T>);
+  std::string const name = std::string(Blocks ? "spatial_ray" : "spatial_ray_leaf1") +
+                           "/terrain1m/plume/x" + std::to_string(plume::lanes_v<T>);
   benchmark::RegisterBenchmark(name.c_str(), [](benchmark::State& st) {
     terrain_scene const& t = terrain();
-    plume::GWideBvh<T> const bvh(t.mesh.tree());
+    plume::GWideBvh<T> const bvh =
+        Blocks ? t.mesh.make_block_bvh<T>() : plume::GWideBvh<T>(t.mesh.tree());
     std::vector<TreeRayHit> hits(R);
-    t.cast(bvh, hits.data());
+    t.cast<Blocks>(bvh, hits.data());
     if (std::string const bad = mismatches(hits, t.reference); !bad.empty()) {
       st.SkipWithError(("hits differ from width 1: " + bad).c_str());
       return;
@@ -608,7 +618,7 @@ void register_terrain_rays() {
     }
 #endif
     plume::bench::run_items(st, std::int64_t(R), [&] {
-      t.cast(bvh, hits.data());
+      t.cast<Blocks>(bvh, hits.data());
       benchmark::DoNotOptimize(hits.data());
       benchmark::ClobberMemory();
     });
@@ -781,7 +791,7 @@ void register_builders() {
             boxes.push_back(tri.local_aabb());
           std::vector<TreeRayHit> hits(R);
           builder_benchmark(st, boxes, tight,
-                            [&](plume::WideBvh const& bvh) { t.cast(bvh, hits.data()); });
+                            [&](plume::WideBvh const& bvh) { t.cast<false>(bvh, hits.data()); });
         })
         ->Unit(benchmark::kMillisecond)
         ->Iterations(3);
@@ -789,7 +799,8 @@ void register_builders() {
 }
 
 void register_terrain() {
-  plume::bench::for_each_f32_width([]<class T>() { register_terrain_rays<T>(); });
+  plume::bench::for_each_f32_width([]<class T>() { register_terrain_rays<T, true>(); });
+  plume::bench::for_each_f32_width([]<class T>() { register_terrain_rays<T, false>(); });
   register_terrain_queries();
 #if PLUME_HAVE_EMBREE
   benchmark::RegisterBenchmark("spatial_ray/terrain1m/embree/x1", [](benchmark::State& st) {

@@ -188,13 +188,70 @@ MeshBuildResult TriangleMesh::build(std::span<Vec3 const> vertices,
   for (std::size_t t = 0; t < ids.size(); ++t)
     if (ids[t] != ProxyId(t)) throw std::logic_error("plume::TriangleMesh: proxy ids not 0..n-1");
   m.bvh_.build(m.tree_);
+  m.build_blocks();
   return r;
+}
+
+void TriangleMesh::build_blocks() {
+  // Leaves under each node of tree_, children before parents (an explicit post-order).
+  auto const& nodes = tree_.nodes();
+  std::vector<std::uint32_t> under(nodes.size(), 0);
+  std::vector<std::pair<std::uint32_t, bool>> stack{{tree_.root(), false}};
+  while (!stack.empty()) {
+    auto const [i, done] = stack.back();
+    stack.pop_back();
+    AabbTree::Node const& n = nodes[i];
+    if (n.is_leaf()) {
+      under[i] = 1;
+    } else if (done) {
+      under[i] = under[n.left] + under[n.right];
+    } else {
+      stack.push_back({i, true});
+      stack.push_back({n.right, false});
+      stack.push_back({n.left, false});
+    }
+  }
+  // The highest nodes of at most a block's triangles, left to right; each block's triangles
+  // in the tree's left-to-right order.
+  std::vector<std::uint32_t> tops{tree_.root()}, leaves;
+  while (!tops.empty()) {
+    std::uint32_t const i = tops.back();
+    tops.pop_back();
+    if (under[i] > detail::TriangleBlock::size) {
+      tops.push_back(nodes[i].right);
+      tops.push_back(nodes[i].left);
+      continue;
+    }
+    leaves.clear();
+    std::vector<std::uint32_t> walk{i};
+    while (!walk.empty()) {
+      std::uint32_t const j = walk.back();
+      walk.pop_back();
+      if (nodes[j].is_leaf()) {
+        leaves.push_back(nodes[j].proxy);
+      } else {
+        walk.push_back(nodes[j].right);
+        walk.push_back(nodes[j].left);
+      }
+    }
+    detail::TriangleBlock& b = blocks_.emplace_back();
+    for (std::size_t l = 0; l < b.size; ++l) {
+      std::uint32_t const t = leaves[l < leaves.size() ? l : 0];
+      Triangle const& tri = tris_[t];
+      b.ax[l] = tri.a.x, b.ay[l] = tri.a.y, b.az[l] = tri.a.z;
+      b.bx[l] = tri.b.x, b.by[l] = tri.b.y, b.bz[l] = tri.b.z;
+      b.cx[l] = tri.c.x, b.cy[l] = tri.c.y, b.cz[l] = tri.c.z;
+      b.tri[l] = t;
+    }
+    block_root_.push_back(i);
+  }
+  block_bvh_ = make_block_bvh<f32xN>();
 }
 
 MeshRayHit TriangleMesh::ray_cast(Iso3 const& pose, Ray3 const& ray, float max_toi) const {
   Ray3 const local{pose.inverse_transform_point(ray.origin),
                    pose.inverse_transform_vector(ray.dir)};
-  MeshRayHit h = ray_cast_with(bvh_, local, max_toi);
+  MeshRayHit h = ray_cast_blocks_with(block_bvh_, local, max_toi);
   if (h.hit()) h.normal = pose.transform_vector(h.normal);
   return h;
 }

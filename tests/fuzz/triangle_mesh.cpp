@@ -250,6 +250,7 @@ void check_mesh(plume::MeshBuildResult const& r, Soup const& s, float flat_cosin
   PLUME_FUZZ_CHECK(m.tree().size() == m.triangle_count());
   PLUME_FUZZ_CHECK(m.tree().validate().empty());
   PLUME_FUZZ_CHECK(m.bvh().leaf_count() == m.triangle_count());
+  PLUME_FUZZ_CHECK(m.block_bvh().leaf_count() == m.blocks().size());
   check_edges(m, flat_cosine);
 }
 
@@ -327,9 +328,10 @@ extern "C" int LLVMFuzzerTestOneInput(std::uint8_t const* data, std::size_t size
     return 0;
   }
   plume::TriangleMesh const& mesh = r.mesh;
-  // Other node widths give the same ray casts (the header's promise).
+  // Other node widths and the blocks give the same ray casts (the header's promise).
   plume::GWideBvh<float, 4> const narrow(mesh.tree());
   plume::GWideBvh<plume::f32x4, 8> const eight(mesh.tree());
+  plume::GWideBvh<float, 2> const narrow_blocks = mesh.make_block_bvh<float, 2>();
   int const queries = in.integer(1, 12);
   for (int q = 0; q < queries && !in.empty(); ++q) {
     if (s.watertight_grid && (in.byte() & 3) == 0) check_watertight(mesh, s, in);
@@ -340,6 +342,8 @@ extern "C" int LLVMFuzzerTestOneInput(std::uint8_t const* data, std::size_t size
     if (plume::fuzz::ordinary(mesh)) {
       PLUME_FUZZ_CHECK(plume::fuzz::same_hit(mesh.ray_cast_with(narrow, ray, max_toi), want));
       PLUME_FUZZ_CHECK(plume::fuzz::same_hit(mesh.ray_cast_with(eight, ray, max_toi), want));
+      PLUME_FUZZ_CHECK(
+          plume::fuzz::same_hit(mesh.ray_cast_blocks_with(narrow_blocks, ray, max_toi), want));
     }
   }
   return 0;

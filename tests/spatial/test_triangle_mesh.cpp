@@ -107,7 +107,73 @@ void for_each_bvh(TriangleMesh const& m, F&& f) {
   plume::for_each_type<test::f32_types>([&]<class T>() { f(GWideBvh<T>(m.tree())); });
 }
 
+/// f(block bvh) for the mesh's own ray tree and copies of it at other widths.
+template <class F>
+void for_each_block_bvh(TriangleMesh const& m, F&& f) {
+  f(m.block_bvh());
+  f(m.make_block_bvh<float, 2>());
+  f(m.make_block_bvh<float, 4>());
+  plume::for_each_type<test::f32_types>([&]<class T>() { f(m.make_block_bvh<T>()); });
+}
+
 } // namespace
+
+TEST_CASE("mesh ray blocks hold every triangle once, lanes filled by repeats", "[mesh][ray]") {
+  soup const s = GENERATE(as<soup>{}, random_soup(1, 400, 1.5f), grid(24, 0.5f, terrain_height),
+                          random_soup(3, 1, 1.0f), random_soup(4, 9, 1.0f));
+  TriangleMesh const m = make(s);
+  auto const blocks = m.blocks();
+  REQUIRE(m.block_bvh().leaf_count() == blocks.size());
+  std::vector<int> seen(m.triangle_count(), 0);
+  std::size_t full = 0;
+  for (detail::TriangleBlock const& b : blocks) {
+    std::size_t const count = b.count();
+    REQUIRE(count >= 1);
+    REQUIRE(count <= triangle_block_size);
+    full += count == triangle_block_size;
+    for (std::size_t l = 0; l < triangle_block_size; ++l) {
+      std::uint32_t const t = b.tri[l];
+      REQUIRE(t < m.triangle_count());
+      if (l < count)
+        ++seen[t];
+      else
+        CHECK(t == b.tri[0]); // a repeat of lane 0
+      Triangle const& tri = m.triangle(t);
+      CHECK(std::bit_cast<std::array<float, 9>>(tri) ==
+            std::array<float, 9>{b.ax[l], b.ay[l], b.az[l], b.bx[l], b.by[l], b.bz[l], b.cx[l],
+                                 b.cy[l], b.cz[l]});
+    }
+  }
+  CHECK(std::all_of(seen.begin(), seen.end(), [](int c) { return c == 1; }));
+  // Each block is a whole subtree of the tree, so blocks are fuller than one triangle.
+  if (m.triangle_count() >= 2 * triangle_block_size) CHECK(full > 0);
+  CHECK(blocks.size() <= m.triangle_count());
+}
+
+TEST_CASE("mesh ray casts through blocks break ties to the lower triangle", "[mesh][ray]") {
+  // Three copies of one square (6 triangles of equal toi under every ray), in one block.
+  soup s;
+  for (int copy = 0; copy < 3; ++copy) {
+    auto const base = std::uint32_t(s.v.size());
+    s.v.insert(s.v.end(), {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}, {1, 0, 1}});
+    s.i.insert(s.i.end(), {base, base + 2, base + 1, base + 1, base + 2, base + 3});
+  }
+  // Reversed, so the lower index is not the first lane of the block.
+  std::vector<std::uint32_t> rev;
+  for (std::size_t t = s.i.size() / 3; t-- > 0;)
+    rev.insert(rev.end(), {s.i[3 * t], s.i[3 * t + 1], s.i[3 * t + 2]});
+  s.i = rev;
+  TriangleMesh const m = make(s);
+  for (float x = 0.05f; x < 1.0f; x += 0.1f)
+    for (float z = 0.05f; z < 1.0f; z += 0.1f) {
+      Ray3 const r{{x, 1, z}, {0, -1, 0}};
+      MeshRayHit const want = brute_ray(m, r, inf);
+      REQUIRE(want.hit());
+      REQUIRE(want.triangle <= 1); // the last copy's triangles come first
+      for_each_block_bvh(
+          m, [&](auto const& bvh) { check_same(m.ray_cast_blocks_with(bvh, r, inf), want); });
+    }
+}
 
 TEST_CASE("mesh ray casts equal brute force over separate triangles", "[mesh][ray]") {
   soup const s = GENERATE(as<soup>{}, random_soup(1, 400, 1.5f), random_soup(2, 60, 6.0f),
@@ -124,6 +190,8 @@ TEST_CASE("mesh ray casts equal brute force over separate triangles", "[mesh][ra
       MeshRayHit const want = brute_ray(m, r, max_toi);
       hits += want.hit();
       for_each_bvh(m, [&](auto const& bvh) { check_same(m.ray_cast_with(bvh, r, max_toi), want); });
+      for_each_block_bvh(
+          m, [&](auto const& bvh) { check_same(m.ray_cast_blocks_with(bvh, r, max_toi), want); });
       check_same(m.ray_cast(r, max_toi), want);
     }
   }

@@ -577,6 +577,69 @@ PLUME_INLINE mask_t<T> owns_edge(T ex, T ey) noexcept {
 }
 } // namespace detail
 
+namespace detail {
+/// The watertight triangle test after its set-up (ray_cast_local(GTriangle) below): A, B, C
+/// are the vertices minus the ray's origin with their components permuted so that z is the
+/// ray's largest axis (x, y the next ones, swapped when it points down z); (sx, sy, sz) the
+/// shear (d_x / d_z, d_y / d_z, 1 / d_z in that order); facing the unit normal turned to face
+/// the ray, back whether it was turned, valid the ray's validity. Split out so that a caller
+/// that casts one ray against many triangles (a mesh's triangle blocks) sets the ray up once
+/// and permutes by choosing arrays, with the same arithmetic per lane.
+template <Real T>
+PLUME_INLINE GRayHit<T> watertight_sheared(GVec3<T> const& A, GVec3<T> const& B, GVec3<T> const& C,
+                                           T sx, T sy, T sz, GVec3<T> const& facing, mask_t<T> back,
+                                           mask_t<T> valid, T max_toi) noexcept {
+  using M = mask_t<T>;
+  using S = scalar_t<T>;
+  T const zero = plume::zero<T>();
+  T const Ax = A.x - sx * A.z, Ay = A.y - sy * A.z;
+  T const Bx = B.x - sx * B.z, By = B.y - sy * B.z;
+  T const Cx = C.x - sx * C.z, Cy = C.y - sy * C.z;
+  T U = Cx * By - Cy * Bx;
+  T W_ = Bx * Ay - By * Ax;
+  T Vv = Ax * Cy - Ay * Cx;
+  // An edge function exactly zero is rare (a ray through an edge or a vertex, or one that
+  // float cannot tell from one), and only there does the edge need more work: a recompute
+  // in double, then the ownership rule. Both wait behind one branch on any lane, so the
+  // common case costs a compare; lanes with no zero are unchanged by either.
+  M const exact_zero = (U == zero) | (Vv == zero) | (W_ == zero);
+  bool const any_zero = plume::any(exact_zero);
+  if constexpr (std::is_same_v<S, float>) {
+    if (any_zero) [[unlikely]] {
+      for (std::size_t i = 0; i < lanes_v<T>; ++i) {
+        if (!plume::lane(exact_zero, i)) continue;
+        auto const dd = [&](T const& x) { return static_cast<double>(plume::lane(x, i)); };
+        U = plume::with_lane(U, i, static_cast<S>(dd(Cx) * dd(By) - dd(Cy) * dd(Bx)));
+        Vv = plume::with_lane(Vv, i, static_cast<S>(dd(Ax) * dd(Cy) - dd(Ay) * dd(Cx)));
+        W_ = plume::with_lane(W_, i, static_cast<S>(dd(Bx) * dd(Ay) - dd(By) * dd(Ax)));
+      }
+    }
+  }
+  T const det = (U + Vv) + W_;
+  // The distance first: it frees the sheared z coordinates before the edge tests.
+  T const tn = (U * (sz * A.z) + Vv * (sz * B.z)) + W_ * (sz * C.z);
+  T const t = tn / det;
+  // Orient so the triangle is positive (det > 0): inside means every edge function >= 0.
+  M const pos = det > zero;
+  T const su = plume::select(pos, U, -U), sv = plume::select(pos, Vv, -Vv),
+          sw = plume::select(pos, W_, -W_);
+  M inside = (su > zero) & (sv > zero) & (sw > zero);
+  if (any_zero) [[unlikely]] {
+    // Edges opposite A, B, C: B -> C, C -> A, A -> B (reversed for a negative triangle); an
+    // edge function still zero passes where the ray is on an edge this triangle owns.
+    auto const edge_ok = [&](T e, T x0, T y0, T x1, T y1) {
+      T const ex = plume::select(pos, x1 - x0, x0 - x1), ey = plume::select(pos, y1 - y0, y0 - y1);
+      return (e > zero) | ((e == zero) & detail::owns_edge(ex, ey));
+    };
+    inside =
+        edge_ok(su, Bx, By, Cx, Cy) & edge_ok(sv, Cx, Cy, Ax, Ay) & edge_ok(sw, Ax, Ay, Bx, By);
+  }
+  M hit = valid & inside & (det != zero) & (t >= zero) & (t <= max_toi); // not const (see the top)
+  return {hit, plume::select(hit, t, infinity<T>()), detail::keep_where(hit, facing),
+          plume::select(hit, plume::select(back, one<T>(), zero), -one<T>())};
+}
+} // namespace detail
+
 /// Triangle, watertight (Woop, Benthin and Wald 2013): the vertices are moved to the ray
 /// origin, the axes permuted so the largest direction component is z, and sheared so the ray
 /// is the z axis; the edge functions U, V, W are 2D cross products of the sheared vertices.
@@ -590,7 +653,6 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
                                        bool = true) noexcept {
   using V = GVec3<T>;
   using M = mask_t<T>;
-  using S = scalar_t<T>;
   T const zero = plume::zero<T>();
   V const& d = ray.dir;
   // The normal and the ray's validity first, so that the vertices and the ray need not stay
@@ -617,53 +679,11 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
   M const flip = dz < zero;
   auto const px = [&](V const& p) { return plume::select(flip, py0(p), px0(p)); };
   auto const py = [&](V const& p) { return plume::select(flip, px0(p), py0(p)); };
+  auto const perm = [&](V const& p) { return V{px(p), py(p), pz(p)}; };
   T const sx = px(d) / dz, sy = py(d) / dz, sz = one<T>() / dz;
-  V const A = tri.a - ray.origin, B = tri.b - ray.origin, C = tri.c - ray.origin;
-  T const Ax = px(A) - sx * pz(A), Ay = py(A) - sy * pz(A);
-  T const Bx = px(B) - sx * pz(B), By = py(B) - sy * pz(B);
-  T const Cx = px(C) - sx * pz(C), Cy = py(C) - sy * pz(C);
-  T U = Cx * By - Cy * Bx;
-  T W_ = Bx * Ay - By * Ax;
-  T Vv = Ax * Cy - Ay * Cx;
-  // An edge function exactly zero is rare (a ray through an edge or a vertex, or one that
-  // float cannot tell from one), and only there does the edge need more work: a recompute
-  // in double, then the ownership rule. Both wait behind one branch on any lane, so the
-  // common case costs a compare; lanes with no zero are unchanged by either.
-  M const exact_zero = (U == zero) | (Vv == zero) | (W_ == zero);
-  bool const any_zero = plume::any(exact_zero);
-  if constexpr (std::is_same_v<S, float>) {
-    if (any_zero) [[unlikely]] {
-      for (std::size_t i = 0; i < lanes_v<T>; ++i) {
-        if (!plume::lane(exact_zero, i)) continue;
-        auto const dd = [&](T const& x) { return static_cast<double>(plume::lane(x, i)); };
-        U = plume::with_lane(U, i, static_cast<S>(dd(Cx) * dd(By) - dd(Cy) * dd(Bx)));
-        Vv = plume::with_lane(Vv, i, static_cast<S>(dd(Ax) * dd(Cy) - dd(Ay) * dd(Cx)));
-        W_ = plume::with_lane(W_, i, static_cast<S>(dd(Bx) * dd(Ay) - dd(By) * dd(Ax)));
-      }
-    }
-  }
-  T const det = (U + Vv) + W_;
-  // The distance first: it frees the sheared z coordinates before the edge tests.
-  T const tn = (U * (sz * pz(A)) + Vv * (sz * pz(B))) + W_ * (sz * pz(C));
-  T const t = tn / det;
-  // Orient so the triangle is positive (det > 0): inside means every edge function >= 0.
-  M const pos = det > zero;
-  T const su = plume::select(pos, U, -U), sv = plume::select(pos, Vv, -Vv),
-          sw = plume::select(pos, W_, -W_);
-  M inside = (su > zero) & (sv > zero) & (sw > zero);
-  if (any_zero) [[unlikely]] {
-    // Edges opposite A, B, C: B -> C, C -> A, A -> B (reversed for a negative triangle); an
-    // edge function still zero passes where the ray is on an edge this triangle owns.
-    auto const edge_ok = [&](T e, T x0, T y0, T x1, T y1) {
-      T const ex = plume::select(pos, x1 - x0, x0 - x1), ey = plume::select(pos, y1 - y0, y0 - y1);
-      return (e > zero) | ((e == zero) & detail::owns_edge(ex, ey));
-    };
-    inside =
-        edge_ok(su, Bx, By, Cx, Cy) & edge_ok(sv, Cx, Cy, Ax, Ay) & edge_ok(sw, Ax, Ay, Bx, By);
-  }
-  M hit = valid & inside & (det != zero) & (t >= zero) & (t <= max_toi); // not const (see the top)
-  return {hit, plume::select(hit, t, infinity<T>()), detail::keep_where(hit, facing),
-          plume::select(hit, plume::select(back, one<T>(), zero), -one<T>())};
+  return detail::watertight_sheared(perm(tri.a - ray.origin), perm(tri.b - ray.origin),
+                                    perm(tri.c - ray.origin), sx, sy, sz, facing, back, valid,
+                                    max_toi);
 }
 
 /// Any shape at a pose: the ray is moved into the shape frame, the normal back out.

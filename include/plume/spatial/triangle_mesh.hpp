@@ -18,7 +18,11 @@
 // degenerate triangles: |(b - a) x (c - a)|^2 below the smallest normal float, which includes
 // repeated vertices and collinear ones; rejects a mesh with no triangle left. Every kept
 // triangle gets a tight box (margin 0) in a GAabbTree<float> rebuilt once by binned SAH and
-// a WideBvh copy (GWideBvh<f32xN>; float in a scalar build) for the queries.
+// a WideBvh copy (GWideBvh<f32xN>; float in a scalar build) for the box, swept and
+// closest-point queries. Rays use a second copy whose leaves are triangle blocks: each
+// highest subtree of at most triangle_block_size triangles is one leaf, its triangles stored
+// lane by lane (detail::TriangleBlock), so a ray meets a whole leaf in one batch operation
+// per lanes_v<f32xN> triangles.
 //
 // Ray casts: watertight per triangle (ray_cast_local(GTriangle)): a ray through a shared edge
 // or vertex of consistently wound triangles hits exactly one. Back faces: both faces are hit;
@@ -48,6 +52,7 @@
 #include <plume/spatial/wide_bvh.hpp>
 
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -59,6 +64,40 @@
 namespace plume {
 
 inline constexpr std::uint32_t no_triangle = 0xffffffffu;
+
+/// Triangles per leaf of a mesh's ray tree: 8, or the widest float batch's lanes if more
+/// (16 with AVX-512). The leaves and their boxes differ between builds; ray results do not.
+inline constexpr std::size_t triangle_block_size = lanes_v<f32xN> > 8 ? lanes_v<f32xN> : 8;
+
+namespace detail {
+/// Up to triangle_block_size triangles stored lane by lane: lane i is triangle tri[i]; unused
+/// lanes repeat lane 0 (a repeated triangle cannot change a least (toi, index) search).
+/// 320 bytes for 8 lanes: five cache lines.
+struct alignas(64) TriangleBlock {
+  static constexpr std::size_t size = triangle_block_size;
+  std::array<float, size> ax, ay, az, bx, by, bz, cx, cy, cz;
+  std::array<std::uint32_t, size> tri;
+
+  /// The lanes that hold the block's own triangles (the first ones; the rest repeat lane 0).
+  std::size_t count() const noexcept {
+    std::size_t n = 1;
+    while (n < size && tri[n] != tri[0])
+      ++n;
+    return n;
+  }
+
+  /// Lanes first .. first + lanes_v<T> as a batch triangle (first a multiple of lanes_v<T>).
+  template <Real T>
+  PLUME_INLINE GTriangle<T> load(std::size_t first) const noexcept {
+    auto const l = [&](std::array<float, size> const& a) {
+      return plume::load_aligned<T>(a.data() + first);
+    };
+    return {{l(ax), l(ay), l(az)}, {l(bx), l(by), l(bz)}, {l(cx), l(cy), l(cz)}};
+  }
+};
+static_assert(triangle_block_size % lanes_v<f32xN> == 0);
+static_assert(sizeof(TriangleBlock) == 40 * triangle_block_size, "no padding");
+} // namespace detail
 
 enum class MeshError : std::uint8_t {
   none,
@@ -128,17 +167,35 @@ public:
   /// The binary tree (proxy id = triangle index, tight boxes), for other wide copies.
   AabbTree const& tree() const noexcept { return tree_; }
   WideBvh const& bvh() const noexcept { return bvh_; }
+  /// The ray tree: a copy of tree() whose leaves are blocks (proxy id = block index).
+  WideBvh const& block_bvh() const noexcept { return block_bvh_; }
+  std::span<detail::TriangleBlock const> blocks() const noexcept { return blocks_; }
+  /// Another copy of the ray tree (any T and K: ray_cast_blocks_with gives the same hits).
+  template <Real T, std::size_t K = default_arity_v<T>>
+  GWideBvh<T, K> make_block_bvh() const {
+    GWideBvh<T, K> b;
+    std::vector<ProxyId> block_of(tree_.nodes().size(), null_proxy);
+    for (std::size_t k = 0; k < block_root_.size(); ++k)
+      block_of[block_root_[k]] = ProxyId(k);
+    b.build(tree_, [&](std::uint32_t node) { return block_of[node]; });
+    return b;
+  }
 
   // ------------------------------------------------------------------ queries
   MeshRayHit ray_cast(Ray3 const& ray, float max_toi) const {
-    return ray_cast_with(bvh_, ray, max_toi);
+    return ray_cast_blocks_with(block_bvh_, ray, max_toi);
   }
   /// The ray in world space, the mesh placed by pose; normal in world space.
   MeshRayHit ray_cast(Iso3 const& pose, Ray3 const& ray, float max_toi) const;
-  /// The same cast through another copy of tree() (GWideBvh<T, K>(mesh.tree())): the same
-  /// result for every T and K.
+  /// The same cast through another copy of tree() (GWideBvh<T, K>(mesh.tree())), one
+  /// triangle per leaf: the same result for every T and K.
   template <Real T, std::size_t K>
   MeshRayHit ray_cast_with(GWideBvh<T, K> const& bvh, Ray3 const& ray, float max_toi) const;
+  /// The same cast through a copy of the ray tree (make_block_bvh<T, K>()), each block's
+  /// triangles tested lanes_v<T> at a time: the same result for every T and K.
+  template <Real T, std::size_t K>
+  MeshRayHit ray_cast_blocks_with(GWideBvh<T, K> const& block_bvh, Ray3 const& ray,
+                                  float max_toi) const;
 
   /// f(triangle) for each triangle whose box meets `box` (touching counts), in the tree's
   /// order; f returns false to stop (or void to visit all). A box with a NaN meets nothing.
@@ -161,6 +218,7 @@ public:
   MeshClosestPoint closest_point(Iso3 const& pose, Vec3 const& p, float max_distance) const;
 
 private:
+  void build_blocks(); ///< blocks_, block_root_ and block_bvh_ from tree_
   std::vector<Vec3> vertices_;
   std::vector<std::array<std::uint32_t, 3>> indices_;
   std::vector<Triangle> tris_;
@@ -170,6 +228,9 @@ private:
   Aabb3 bounds_{};
   AabbTree tree_;
   WideBvh bvh_;
+  std::vector<detail::TriangleBlock> blocks_;
+  std::vector<std::uint32_t> block_root_; ///< block k: the tree_ node it was cut at
+  WideBvh block_bvh_;
 };
 
 struct MeshBuildResult {
@@ -203,10 +264,31 @@ struct NearestTriangleHit {
   Ray3 ray;
   float max_toi, scale, limit;
   MeshRayHit best;
+  // The watertight test's set-up for this ray, as ray_cast_local(GTriangle) makes it per
+  // lane: the permuted axes k[0..2] (z last), the shear and the ray's validity.
+  std::array<int, 3> k;
+  float sx, sy, sz;
+  bool valid;
   NearestTriangleHit(Ray3 const& r, float max) noexcept : ray(r), max_toi(max), limit(max) {
     Vec3 const ao = r.origin.abs(), ad = r.dir.abs();
     float const dmax = std::max(std::max(ad.x, ad.y), ad.z);
     scale = (std::max(std::max(ao.x, ao.y), ao.z) + 1.0f) / dmax;
+    bool const kz_x = (ad.x >= ad.y) & (ad.x >= ad.z);
+    bool const kz_y = (ad.y >= ad.z) & !kz_x;
+    int const kz = kz_x   ? 0
+                   : kz_y ? 1
+                          : 2,
+              kx0 = kz_x   ? 1
+                    : kz_y ? 2
+                           : 0,
+              ky0 = kz_x   ? 2
+                    : kz_y ? 0
+                           : 1;
+    float const d[3] = {r.dir.x, r.dir.y, r.dir.z};
+    bool const flip = d[kz] < 0.0f;
+    k = {flip ? ky0 : kx0, flip ? kx0 : ky0, kz};
+    sx = d[k[0]] / d[kz], sy = d[k[1]] / d[kz], sz = 1.0f / d[kz];
+    valid = ray_valid(r);
   }
   /// Casts against triangle t; returns the bound beyond which a box holds nothing better.
   float test(Triangle const& tri, std::uint32_t t) noexcept {
@@ -218,6 +300,59 @@ struct NearestTriangleHit {
       best.back = h.feature == 1.0f;
       limit = h.toi;
     }
+    return bound();
+  }
+  /// Casts against every triangle of a block, lanes_v<T> at a time; the same best and bound
+  /// as test() on each of its triangles in turn.
+  template <Real T>
+  float test_block(TriangleBlock const& b) noexcept {
+    static_assert(TriangleBlock::size % lanes_v<T> == 0, "a block is whole batches");
+    using V = GVec3<T>;
+    using Lanes = std::array<float, TriangleBlock::size>;
+    V const d = detail::splat3<T>(ray.dir);
+    float const o[3] = {ray.origin.x, ray.origin.y, ray.origin.z};
+    T const ox = plume::splat<T>(o[k[0]]), oy = plume::splat<T>(o[k[1]]),
+            oz = plume::splat<T>(o[k[2]]);
+    T const tsx = plume::splat<T>(sx), tsy = plume::splat<T>(sy), tsz = plume::splat<T>(sz);
+    mask_t<T> const tvalid = valid ? all_lanes<T>() : no_lanes<T>();
+    Lanes const* const pa[3] = {&b.ax, &b.ay, &b.az};
+    Lanes const* const pb[3] = {&b.bx, &b.by, &b.bz};
+    Lanes const* const pc[3] = {&b.cx, &b.cy, &b.cz};
+    for (std::size_t g = 0; g < TriangleBlock::size; g += lanes_v<T>) {
+      // ray_cast_local(b.load<T>(g), ray, limit) with the ray's set-up done once: the
+      // permutation picks arrays instead of selecting lanes.
+      V const n = b.load<T>(g).scaled_normal().normalize_or(V{});
+      mask_t<T> const back = n.dot(d) > zero<T>();
+      V const facing = V::select(back, -n, n);
+      auto const perm = [&](Lanes const* const* p) {
+        auto const l = [&](int axis) { return plume::load_aligned<T>(p[axis]->data() + g); };
+        return V{l(k[0]) - ox, l(k[1]) - oy, l(k[2]) - oz};
+      };
+      GRayHit<T> const h = detail::watertight_sheared(perm(pa), perm(pb), perm(pc), tsx, tsy, tsz,
+                                                      facing, back, tvalid, plume::splat<T>(limit));
+      std::uint64_t bits = plume::bitmask(h.hit);
+      if (bits == 0) continue;
+      alignas(64) std::array<float, lanes_v<T>> toi;
+      plume::store_aligned(toi.data(), h.toi);
+      for (; bits; bits &= bits - 1) {
+        auto const i = std::size_t(std::countr_zero(bits));
+        std::uint32_t const t = b.tri[g + i];
+        // Every lane was cast with the limit at the batch's start: a lane must also beat what
+        // an earlier lane of the batch found.
+        if (toi[i] < limit || (toi[i] == limit && t < best.triangle)) {
+          best.triangle = t;
+          best.toi = toi[i];
+          best.normal = {plume::lane(h.normal.x, i), plume::lane(h.normal.y, i),
+                         plume::lane(h.normal.z, i)};
+          best.back = plume::lane(h.feature, i) == 1.0f;
+          limit = toi[i];
+        }
+      }
+    }
+    return bound();
+  }
+  /// best + slack: beyond it a box holds nothing better.
+  float bound() const noexcept {
     float const next = limit + (limit + scale) * 0x1p-12f;
     return next < max_toi ? next : max_toi;
   }
@@ -260,6 +395,18 @@ MeshRayHit TriangleMesh::ray_cast_with(GWideBvh<T, K> const& bvh, Ray3 const& ra
   detail::NearestTriangleHit nearest(ray, max_toi); // node boxes are tight (margin 0)
   Triangle const* const tris = tris_.data();
   bvh.ray_query(ray, max_toi, [&](ProxyId id, float) { return nearest.test(tris[id], id); });
+  return nearest.best;
+}
+
+template <Real T, std::size_t K>
+MeshRayHit TriangleMesh::ray_cast_blocks_with(GWideBvh<T, K> const& block_bvh, Ray3 const& ray,
+                                              float max_toi) const {
+  if (!(max_toi >= 0.0f)) return {};
+  detail::NearestTriangleHit nearest(ray, max_toi); // block boxes are tight (margin 0)
+  detail::TriangleBlock const* const blocks = blocks_.data();
+  block_bvh.ray_query(
+      ray, max_toi, [&](ProxyId id, float) { return nearest.template test_block<T>(blocks[id]); },
+      [&](ProxyId id) { detail::prefetch_node(&blocks[id]); });
   return nearest.best;
 }
 

@@ -66,7 +66,7 @@ public:
   static constexpr std::uint32_t leaf_bit = 0x80000000u;
   static constexpr std::uint32_t empty_child = 0xffffffffu;
 
-  struct Node {
+  struct alignas(64) Node {
     std::array<GAabb3<T>, groups> box; ///< child c is lane c % lanes of box[c / lanes]
     std::array<std::uint32_t, K> child;
   };
@@ -76,7 +76,16 @@ public:
 
   /// A copy of the tree's current shape and fat boxes. Throws std::length_error for proxy
   /// ids of 2^31 - 1 or more.
-  void build(GAabbTree<S> const& tree);
+  void build(GAabbTree<S> const& tree) {
+    build(tree, [](std::uint32_t) { return null_proxy; });
+  }
+  /// The same copy cut short: each binary node n for which leaf_of(n) is not null_proxy (the
+  /// highest such node on each path) becomes a leaf with that id, its subtree left out; leaves
+  /// of the tree above no such node keep their proxy ids. A leaf then stands for a block of
+  /// primitives its caller tests together (TriangleMesh's triangle blocks). The same limit on
+  /// ids.
+  template <class LeafOf>
+  void build(GAabbTree<S> const& tree, LeafOf&& leaf_of);
 
   bool empty() const noexcept { return nodes_.empty(); }
   std::size_t node_count() const noexcept { return nodes_.size(); }
@@ -88,14 +97,21 @@ public:
   /// clip, negative to stop).
   template <class F>
   void ray_query(GRay3<S> const& ray, S max_toi, F&& f) const {
-    walk_ray<false>(ray, GVec3<S>{}, max_toi, f);
+    walk_ray<false>(ray, GVec3<S>{}, max_toi, f, [](ProxyId) {});
+  }
+  /// ray_query that also calls met(ProxyId) for each leaf the ray enters as its node is
+  /// visited, before f reaches it (or not, when the search stops or prunes first): the time
+  /// to prefetch the leaf's data. met must not change anything f or the results depend on.
+  template <class F, class Met>
+  void ray_query(GRay3<S> const& ray, S max_toi, F&& f, Met&& met) const {
+    walk_ray<false>(ray, GVec3<S>{}, max_toi, f, met);
   }
   /// ray_query with every fat box grown by `grow` (>= 0) on each side: the leaves a box of
   /// half extents `grow` centred on the ray's origin may meet while it moves along the ray
   /// (a shape cast's candidates, nearest first).
   template <class F>
   void swept_query(GRay3<S> const& ray, GVec3<S> const& grow, S max_toi, F&& f) const {
-    walk_ray<true>(ray, grow, max_toi, f);
+    walk_ray<true>(ray, grow, max_toi, f, [](ProxyId) {});
   }
 
   /// The least toi the leaf cast gives, ties to the lower proxy; leaf(ProxyId, S max_toi)
@@ -110,8 +126,8 @@ public:
   void query(GAabb3<S> const& box, F&& f) const;
 
 private:
-  template <bool Grown, class F>
-  void walk_ray(GRay3<S> const& ray, GVec3<S> const& grow, S max_toi, F& f) const;
+  template <bool Grown, class F, class Met>
+  void walk_ray(GRay3<S> const& ray, GVec3<S> const& grow, S max_toi, F& f, Met&& on_met) const;
 
   std::vector<Node> nodes_;
   std::size_t leaves_ = 0;
@@ -123,6 +139,13 @@ using WideBvh = GWideBvh<f32xN>;
 // ------------------------------------------------------------------------ build
 
 namespace detail {
+/// Asks for every cache line of *p ahead of its use (a hint: no effect on results).
+template <class N>
+PLUME_INLINE void prefetch_node(N const* p) noexcept {
+  for (std::size_t o = 0; o < sizeof(N); o += 64)
+    __builtin_prefetch(reinterpret_cast<char const*>(p) + o);
+}
+
 template <Real T>
 PLUME_INLINE GVec3<T> splat3(GVec3<scalar_t<T>> const& v) noexcept {
   return {plume::splat<T>(v.x), plume::splat<T>(v.y), plume::splat<T>(v.z)};
@@ -130,19 +153,25 @@ PLUME_INLINE GVec3<T> splat3(GVec3<scalar_t<T>> const& v) noexcept {
 } // namespace detail
 
 template <Real T, std::size_t K>
-void GWideBvh<T, K>::build(GAabbTree<S> const& tree) {
+template <class LeafOf>
+void GWideBvh<T, K>::build(GAabbTree<S> const& tree, LeafOf&& leaf_of) {
   nodes_.clear();
   leaves_ = 0;
   auto const& bin = tree.nodes();
   std::uint32_t const root = tree.root();
   if (root == GAabbTree<S>::null_node) return;
   using BinNode = typename GAabbTree<S>::Node;
-  auto const leaf_ref = [&](BinNode const& n) {
+  // The leaf id of binary node i, or null_proxy for an inner node this copy opens.
+  auto const leaf_id = [&](std::uint32_t i) -> ProxyId {
+    ProxyId const cut = leaf_of(i);
+    return cut != null_proxy ? cut : bin[i].is_leaf() ? bin[i].proxy : null_proxy;
+  };
+  auto const leaf_ref = [&](ProxyId id) {
     // 0x7fffffff would spell empty_child with the leaf bit.
-    if (n.proxy >= leaf_bit - 1)
+    if (id >= leaf_bit - 1)
       throw std::length_error("plume::GWideBvh: proxy id of 2^31 - 1 or more");
     ++leaves_;
-    return leaf_bit | n.proxy;
+    return leaf_bit | id;
   };
   // Each task: fill wide node `slot` from binary node `from`.
   struct Task {
@@ -157,7 +186,7 @@ void GWideBvh<T, K>::build(GAabbTree<S> const& tree) {
     // Open the inner child of largest area until there are K children (Wald's collapse).
     std::array<std::uint32_t, K> kids{};
     std::size_t n = 0;
-    if (bin[t.from].is_leaf()) {
+    if (leaf_id(t.from) != null_proxy) {
       kids[n++] = t.from;
     } else {
       kids[n++] = bin[t.from].left;
@@ -168,7 +197,7 @@ void GWideBvh<T, K>::build(GAabbTree<S> const& tree) {
       S best_area = S(-1);
       for (std::size_t i = 0; i < n; ++i) {
         BinNode const& c = bin[kids[i]];
-        if (c.is_leaf()) continue;
+        if (leaf_id(kids[i]) != null_proxy) continue;
         S const a = c.box.surface_area();
         if (a > best_area) {
           best_area = a;
@@ -196,8 +225,8 @@ void GWideBvh<T, K>::build(GAabbTree<S> const& tree) {
       BinNode const& c = bin[kids[i]];
       lo_x[i] = c.box.min.x, lo_y[i] = c.box.min.y, lo_z[i] = c.box.min.z;
       hi_x[i] = c.box.max.x, hi_y[i] = c.box.max.y, hi_z[i] = c.box.max.z;
-      if (c.is_leaf()) {
-        child[i] = leaf_ref(c);
+      if (ProxyId const id = leaf_id(kids[i]); id != null_proxy) {
+        child[i] = leaf_ref(id);
       } else {
         child[i] = std::uint32_t(nodes_.size());
         nodes_.emplace_back();
@@ -219,8 +248,9 @@ void GWideBvh<T, K>::build(GAabbTree<S> const& tree) {
 // ------------------------------------------------------------------------ queries
 
 template <Real T, std::size_t K>
-template <bool Grown, class F>
-void GWideBvh<T, K>::walk_ray(GRay3<S> const& ray, GVec3<S> const& grow, S max_toi, F& f) const {
+template <bool Grown, class F, class Met>
+void GWideBvh<T, K>::walk_ray(GRay3<S> const& ray, GVec3<S> const& grow, S max_toi, F& f,
+                              Met&& on_met) const {
   if (nodes_.empty() || !detail::usable_ray(ray) || !(max_toi >= S(0))) return;
   [[maybe_unused]] GVec3<T> const g3 = detail::splat3<T>(grow);
   bool const neg[3] = {std::signbit(ray.dir.x), std::signbit(ray.dir.y), std::signbit(ray.dir.z)};
@@ -260,6 +290,11 @@ void GWideBvh<T, K>::walk_ray(GRay3<S> const& ray, GVec3<S> const& grow, S max_t
     for (; bits; bits &= bits - 1) {
       auto const i = std::size_t(std::countr_zero(bits));
       if (node.child[i] == empty_child) continue; // never entered (EMPTY box); kept safe
+      // The children's memory is asked for now, while the sort and the siblings run.
+      if (node.child[i] & leaf_bit)
+        on_met(ProxyId(node.child[i] & ~leaf_bit));
+      else
+        detail::prefetch_node(&nodes_[node.child[i]]);
       Entry const c{node.child[i], entry[i]};
       std::size_t j = n++;
       for (; j > 0 && met[j - 1].entry <= c.entry; --j) // descending entry, ties: higher slot first
