@@ -275,7 +275,23 @@ TEMPLATE_LIST_TEST_CASE("estrin evaluates the polynomial, lane-exact, for every 
   check_estrin<T>(c8, S(0.5));
   check_estrin<T>(c12, S(0.5));
   check_estrin<T>(c16, S(0.5));
-  // The table it runs on: asin's kernel (u in [0, 1]).
+  S const c4[] = {S(0.2), S(0.3), S(0.6), S(1)};
+  S const c6[] = {S(0.05), S(0.1), S(0.2), S(0.3), S(0.6), S(1)};
+  S const c7[] = {S(0.02), S(0.05), S(0.1), S(0.2), S(0.3), S(0.6), S(1)};
+  check_estrin<T>(c4, S(0.5));
+  check_estrin<T>(c6, S(0.5));
+  check_estrin<T>(c7, S(0.5));
+  // The tables it runs on, over their kernels' ranges: asin's (u in [0, 1]); tan's (z = r^2,
+  // |r| <= pi/4); float pow's, evaluated in double (s^2 <= 0.03 for log2, |r| <= 1/2 for 2^r).
   using C = detail::math_constants<S>;
   check_estrin<T>(C::asin_poly, S(1));
+  if constexpr (std::is_same_v<S, float>) {
+    check_estrin<T>(C::tan_poly, S(0.62));
+  } else {
+    check_estrin<T>(C::tan_p, S(0.62));
+    check_estrin<T>(C::tan_q, S(0.62));
+    using Cf = detail::math_constants<float>;
+    check_estrin<T>(Cf::powf_log2_poly, S(0.03));
+    check_estrin<T>(Cf::powf_exp2_poly, S(0.5));
+  }
 }
