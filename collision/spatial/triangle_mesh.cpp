@@ -213,7 +213,7 @@ void TriangleMesh::build_blocks() {
   }
   // The highest nodes of at most a block's triangles, left to right; each block's triangles
   // in the tree's left-to-right order.
-  std::vector<std::uint32_t> tops{tree_.root()}, leaves;
+  std::vector<std::uint32_t> tops{tree_.root()}, leaves, walk;
   while (!tops.empty()) {
     std::uint32_t const i = tops.back();
     tops.pop_back();
@@ -223,7 +223,7 @@ void TriangleMesh::build_blocks() {
       continue;
     }
     leaves.clear();
-    std::vector<std::uint32_t> walk{i};
+    walk.assign(1, i);
     while (!walk.empty()) {
       std::uint32_t const j = walk.back();
       walk.pop_back();

@@ -290,6 +290,7 @@ TEMPLATE_LIST_TEST_CASE("estrin evaluates the polynomial, lane-exact, for every 
   } else {
     check_estrin<T>(C::tan_p, S(0.62));
     check_estrin<T>(C::tan_q, S(0.62));
+    check_estrin<T>(C::atan2_poly, S(0.13)); // q^2, |q| <= 0.36
     using Cf = detail::math_constants<float>;
     check_estrin<T>(Cf::powf_log2_poly, S(0.03));
     check_estrin<T>(Cf::powf_exp2_poly, S(0.5));

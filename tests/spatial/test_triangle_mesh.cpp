@@ -17,6 +17,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 using namespace plume;
@@ -151,28 +152,54 @@ TEST_CASE("mesh ray blocks hold every triangle once, lanes filled by repeats", "
 }
 
 TEST_CASE("mesh ray casts through blocks break ties to the lower triangle", "[mesh][ray]") {
-  // Three copies of one square (6 triangles of equal toi under every ray), in one block.
+  // Six coplanar triangles over one spot, each shifted 0.1 further to -x: the tree orders
+  // them by centre, so the block's first lane holds the highest index and the tie (every toi
+  // is 1) must go to triangle 0 against the order of the lanes.
   soup s;
-  for (int copy = 0; copy < 3; ++copy) {
-    auto const base = std::uint32_t(s.v.size());
-    s.v.insert(s.v.end(), {{0, 0, 0}, {1, 0, 0}, {0, 0, 1}, {1, 0, 1}});
-    s.i.insert(s.i.end(), {base, base + 2, base + 1, base + 1, base + 2, base + 3});
+  for (std::uint32_t t = 0; t < 6; ++t) {
+    float const x = -0.1f * float(t);
+    s.v.insert(s.v.end(), {{x, 0, 0}, {x, 0, 2}, {x + 2, 0, 0}});
+    s.i.insert(s.i.end(), {3 * t, 3 * t + 1, 3 * t + 2});
   }
-  // Reversed, so the lower index is not the first lane of the block.
-  std::vector<std::uint32_t> rev;
-  for (std::size_t t = s.i.size() / 3; t-- > 0;)
-    rev.insert(rev.end(), {s.i[3 * t], s.i[3 * t + 1], s.i[3 * t + 2]});
-  s.i = rev;
   TriangleMesh const m = make(s);
+  REQUIRE(m.blocks().size() == 1);
+  REQUIRE(m.blocks()[0].tri[0] != 0); // the lanes are not in index order
   for (float x = 0.05f; x < 1.0f; x += 0.1f)
-    for (float z = 0.05f; z < 1.0f; z += 0.1f) {
+    for (float z = 0.05f; z < 0.5f; z += 0.1f) {
       Ray3 const r{{x, 1, z}, {0, -1, 0}};
       MeshRayHit const want = brute_ray(m, r, inf);
-      REQUIRE(want.hit());
-      REQUIRE(want.triangle <= 1); // the last copy's triangles come first
+      REQUIRE(want.triangle == 0);
       for_each_block_bvh(
           m, [&](auto const& bvh) { check_same(m.ray_cast_blocks_with(bvh, r, inf), want); });
     }
+  // A tree that is not the block tree is refused, not read past the blocks.
+  CHECK_THROWS_AS(m.ray_cast_blocks_with(m.bvh(), Ray3{{0.5f, 1, 0.2f}, {0, -1, 0}}, inf),
+                  std::invalid_argument);
+}
+
+TEST_CASE("mesh ray casts through blocks with tied, signed-zero and subnormal directions",
+          "[mesh][ray]") {
+  // The block test sets up the ray's axes once (largest |d| first on ties, -0 not negative);
+  // each lane must be the per-triangle cast's arithmetic.
+  TriangleMesh const m =
+      make(GENERATE(as<soup>{}, random_soup(11, 300, 2.0f), grid(16, 0.5f, terrain_height)));
+  float const sub = 1e-40f;
+  Vec3 const dirs[] = {{1, 1, 0.5f},   {-1, 1, 0.2f},   {1, -1, -1},         {-0.0f, -1, 0},
+                       {0, -1, -0.0f}, {0.5f, -1, 1},   {1, 1, 1},           {-1, -1, -1},
+                       {sub, -1, 0},   {-sub, -1, sub}, {0.3f, -0.3f, 0.3f}, {-2, 0.5f, 2}};
+  std::size_t hits = 0;
+  for (std::uint32_t t = 0; t < m.triangle_count(); t += 3) {
+    Triangle const& tri = m.triangle(t);
+    Vec3 const c = (tri.a + tri.b + tri.c) * (1.0f / 3.0f);
+    for (Vec3 const& d : dirs) {
+      Ray3 const r{c - d * 20.0f, d};
+      MeshRayHit const want = brute_ray(m, r, inf);
+      hits += want.hit();
+      for_each_block_bvh(
+          m, [&](auto const& bvh) { check_same(m.ray_cast_blocks_with(bvh, r, inf), want); });
+    }
+  }
+  CHECK(hits > 0);
 }
 
 TEST_CASE("mesh ray casts equal brute force over separate triangles", "[mesh][ray]") {

@@ -58,6 +58,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <stdexcept>
 #include <type_traits>
 #include <vector>
 
@@ -192,7 +193,8 @@ public:
   template <Real T, std::size_t K>
   MeshRayHit ray_cast_with(GWideBvh<T, K> const& bvh, Ray3 const& ray, float max_toi) const;
   /// The same cast through a copy of the ray tree (make_block_bvh<T, K>()), each block's
-  /// triangles tested lanes_v<T> at a time: the same result for every T and K.
+  /// triangles tested lanes_v<T> at a time: the same result for every T and K. A tree with
+  /// another leaf count (a copy of tree(), or another mesh's) throws std::invalid_argument.
   template <Real T, std::size_t K>
   MeshRayHit ray_cast_blocks_with(GWideBvh<T, K> const& block_bvh, Ray3 const& ray,
                                   float max_toi) const;
@@ -401,6 +403,10 @@ MeshRayHit TriangleMesh::ray_cast_with(GWideBvh<T, K> const& bvh, Ray3 const& ra
 template <Real T, std::size_t K>
 MeshRayHit TriangleMesh::ray_cast_blocks_with(GWideBvh<T, K> const& block_bvh, Ray3 const& ray,
                                               float max_toi) const {
+  // Leaf ids index blocks_: a tree of triangle leaves would read past them.
+  if (block_bvh.leaf_count() != blocks_.size())
+    throw std::invalid_argument("plume::TriangleMesh::ray_cast_blocks_with: not this mesh's "
+                                "block tree (make_block_bvh)");
   if (!(max_toi >= 0.0f)) return {};
   detail::NearestTriangleHit nearest(ray, max_toi); // block boxes are tight (margin 0)
   detail::TriangleBlock const* const blocks = blocks_.data();
