@@ -256,3 +256,25 @@ TEST_CASE("penetration: witness points stay on the shapes when two faces tie for
     CHECK(f.normal.dot(pose.inverse_transform_point(r.point_b)) - f.offset <= 1e-4f);
   CHECK(((r.point_b - r.point_a) + r.normal * r.depth).length() <= 1e-4f);
 }
+
+TEST_CASE("penetration: a flat difference 1e18 across has the plane's unit normal",
+          "[collision][epa][fuzz]") {
+  // Fuzz finding triangle_mesh regress-epa-flat-overflow: a capsule's core touching a
+  // triangle with a vertex 2e18 away. Their difference is flat at its scale, and its normal
+  // came from a cross product whose squared length overflowed: a zero normal, reported as
+  // penetrating (a mesh contact without a direction).
+  Triangle const tri{{-0x1.6ffbfp+2f, -0x1.1fd1p-3f, 0x1.46cfc4p+2f},
+                     {0x1.f7285ap-8f, -0x1.0cbe8cp+2f, -0x1.bbbbbap+60f},
+                     {0x1.d55558p+2f, 0x1.d4a8d8p+1f, 0x1.d55558p+2f}};
+  Capsule const cap{0x1.8ab38ap+0f, 0x1.d48dd4p-2f};
+  Iso3 const pose{Quat::IDENTITY, Vec3{0x1.12871p+1f, -0x1.0303p+1f, 0x1.360038p+2f}};
+  PenetrationResult const p = penetration(tri, Iso3::IDENTITY, cap, pose);
+  REQUIRE(p.status == PenetrationStatus::penetrating);
+  CHECK(std::abs(p.normal.length() - 1.0f) < 1e-5f);
+  // At this scale (float's spacing is 1e11 there) the difference is a needle along z: the
+  // cores meet at a vertex, and any direction across the needle is a normal float can tell.
+  CHECK(std::abs(p.normal.z) < 1e-6f);
+  Manifold const m = contact_manifold(tri, Iso3::IDENTITY, cap, pose);
+  REQUIRE(m.count >= 1);
+  CHECK(std::abs(m.normal.length() - 1.0f) < 1e-5f);
+}

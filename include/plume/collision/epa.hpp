@@ -277,7 +277,14 @@ epa_seed<S> initial_tetrahedron(Diff const& diff, GVec3<S> const& centre_dir,
     seed.flat_normal = n.length_squared() > S(0) ? n.normalize() : u;
     return seed;
   }
-  GVec3<S> const pn = line.cross(p2.p - ext[i0].p).normalize();
+  // The cross product of D's extents taken at scale 1 (a power of two near the line's largest
+  // component, so the scaling is exact and the normal's bits are those of the unscaled
+  // product where that does not overflow): at D's own scale (up to the 1e19 GJK accepts) its
+  // squared length overflows, and normalize() gave a zero normal.
+  int exponent = 0;
+  std::frexp(line.abs().max_element(), &exponent);
+  S const inv = std::ldexp(S(1), -exponent);
+  GVec3<S> const pn = (line * inv).cross((p2.p - ext[i0].p) * inv).normalize();
   seed.flat_normal = pn;
   simplex_vertex<S> const up = diff.vertex(pn), down = diff.vertex(-pn);
   S const hu = (up.p - ext[i0].p).dot(pn), hd = (ext[i0].p - down.p).dot(pn);
