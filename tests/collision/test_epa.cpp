@@ -6,6 +6,7 @@
 
 #include <plume/collision/convex_hull.hpp>
 #include <plume/collision/epa.hpp>
+#include <plume/collision/manifold.hpp>
 
 #include <algorithm>
 #include <cmath>
