@@ -349,6 +349,36 @@ TEST_CASE("mesh_shape_cast with a target distance near float's range still finds
   }
 }
 
+TEST_CASE("mesh_shape_cast finds triangles when shape and mesh are both near float's range",
+          "[spatial][mesh][fuzz]") {
+  // A cylinder and a mesh both at y = 1.7e38: the world box was clamped to +-2^125 before it
+  // was taken into the mesh's frame, which moved it 1.3e38 from the mesh, so the candidate
+  // search found nothing where the cast against the triangle starts penetrating (a fuzz
+  // finding, triangle_mesh regress-shape-cast-far-pose).
+  std::vector<Vec3> const v{{0, 0, 0}, {0, -1, 1}, {1, -1, 0}};
+  std::vector<std::uint32_t> const i{0, 1, 2};
+  auto const built = TriangleMesh::build(v, i);
+  REQUIRE(built.ok());
+  Quat const q{-0.5f, -0.5f, -0.5f, -0.5f};
+  Iso3 const mesh_at{q, {-0x1.0101p-7f, 0x1.fefefep+127f, -0x1.0101p-7f}};
+  Iso3 const at{q, {-0x1.8182p-5f, 0x1.fefefep+127f, -0x1.8182p-5f}};
+  Cylinder const cyl{0x1.fdfdfep-1f, 0x1.fdfdfep-2f};
+  ShapeCastConfig cfg;
+  cfg.max_toi = 0x1.fdfdfep-1f;
+  cfg.stop_at_penetration = true;
+  for (Vec3 const motion : {Vec3{}, Vec3::splat(-0x1.8182p-4f)}) {
+    MeshShapeHit const want = brute_cast(built.mesh, mesh_at, cyl, at, motion, cfg);
+    REQUIRE(want.hit());
+    MeshShapeHit const got = mesh_shape_cast(built.mesh, mesh_at, cyl, at, motion, cfg);
+    CHECK(got.triangle == want.triangle);
+    CHECK(got.toi == want.toi);
+    ShapeCastHit const c = shape_cast(cyl, at, motion, built.mesh.triangle(0), mesh_at, cfg);
+    CHECK(got.penetrating == bool(c.penetrating));
+  }
+  // The contacts' candidate search takes the same path.
+  CHECK(mesh_intersects(built.mesh, mesh_at, cyl, at));
+}
+
 TEST_CASE("mesh_shape_cast agrees with brute force next to a triangle 3e11 long",
           "[spatial][mesh][fuzz]") {
   // With a vertex at 3e11, GJK's rounding floor near that triangle is 16 eps * 3e11 = 6e5: a

@@ -250,7 +250,6 @@ inline std::uint64_t mesh_point_id(std::uint64_t id, std::uint32_t t) noexcept {
   return z ^ (z >> 31);
 }
 
-/// The box of a world-space box in the mesh's local frame.
 /// A box with its sides clamped to +-2^125: a box that big (a huge target distance or
 /// prediction) still covers every triangle a float mesh can hold, and its centre, half
 /// extents and rotated extents stay finite (an infinite side would give inf - inf and 0 * inf:
@@ -260,8 +259,30 @@ inline Aabb3 clamp_box(Aabb3 const& b) noexcept {
   return {b.min.max(-big).min(big), b.max.max(-big).min(big)};
 }
 
+/// The box of a world-space box in the mesh's local frame, sides clamped to +-2^125. In
+/// double, with infinite sides first clamped to float's largest: the box keeps its place
+/// relative to the mesh wherever both are (a shape and a mesh at 1.7e38 stay neighbours;
+/// clamping before the transform had moved the box 1.3e38 away from the mesh), and an
+/// infinite side gives no NaN. A NaN side gives a box that meets nothing.
 inline Aabb3 to_mesh_local(Aabb3 const& world_box, Iso3 const& mesh_pose) noexcept {
-  return clamp_box(world_box).transformed(mesh_pose.inverse());
+  double const top = double(std::numeric_limits<float>::max());
+  auto const d = [&](Vec3 const& v) {
+    auto const c = [&](float x) { return x != x ? double(x) : std::clamp(double(x), -top, top); };
+    return DVec3{c(v.x), c(v.y), c(v.z)};
+  };
+  DVec3 const lo = d(world_box.min), hi = d(world_box.max);
+  Vec3 const& t = mesh_pose.translation;
+  DVec3 const centre = (lo + hi) * 0.5 - DVec3{t.x, t.y, t.z}, half = (hi - lo) * 0.5;
+  Mat3 const m = mesh_pose.rotation_matrix(); // local = m^T (world - t)
+  auto const dv = [](Vec3 const& v) { return DVec3{v.x, v.y, v.z}; };
+  GMat3<double> const r = GMat3<double>::from_cols(dv(m.x_axis), dv(m.y_axis), dv(m.z_axis));
+  DVec3 const lc = r.mul_transpose_vec3(centre), lh = r.abs().mul_transpose_vec3(half);
+  double const big = 0x1p125;
+  auto const f = [&](DVec3 const& v) {
+    auto const c = [&](double x) { return float(x != x ? x : std::clamp(x, -big, big)); };
+    return Vec3{c(v.x), c(v.y), c(v.z)};
+  };
+  return {f(lc - lh), f(lc + lh)};
 }
 
 /// The mesh's triangles whose boxes meet a world box, in increasing index.
