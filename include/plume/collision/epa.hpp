@@ -280,7 +280,7 @@ epa_seed<S> initial_tetrahedron(Diff const& diff, GVec3<S> const& centre_dir,
   // The cross product of D's extents taken at scale 1 (a power of two near the line's largest
   // component, so the scaling is exact and the normal's bits are those of the unscaled
   // product where that does not overflow): at D's own scale (up to the 1e19 GJK accepts) its
-  // squared length overflows, and normalize() gave a zero normal.
+  // squared length can overflow, which would make the normal zero.
   int exponent = 0;
   std::frexp(line.abs().max_element(), &exponent);
   S const inv = std::ldexp(S(1), -exponent);

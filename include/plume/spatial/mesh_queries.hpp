@@ -261,8 +261,7 @@ inline Aabb3 clamp_box(Aabb3 const& b) noexcept {
 
 /// The box of a world-space box in the mesh's local frame, sides clamped to +-2^125. In
 /// double, with infinite sides first clamped to float's largest: the box keeps its place
-/// relative to the mesh wherever both are (a shape and a mesh at 1.7e38 stay neighbours;
-/// clamping before the transform had moved the box 1.3e38 away from the mesh), and an
+/// relative to the mesh wherever both are, even near float's largest, and an
 /// infinite side gives no NaN. A NaN side gives a box that meets nothing.
 inline Aabb3 to_mesh_local(Aabb3 const& world_box, Iso3 const& mesh_pose) noexcept {
   double const top = double(std::numeric_limits<float>::max());

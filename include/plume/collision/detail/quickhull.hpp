@@ -488,8 +488,7 @@ void link_faces(std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t>
 /// three vertices, each within 4 tol of the loop's plane; convex (every corner turns left
 /// about the normal, or lies within 4 tol of the chord from its predecessor to its
 /// successor); and every vertex of the triangulation (`all`, the dropped straight ones and
-/// those inside merged faces too) at most 4 tol above it (with 2 tol, merged faces no worse
-/// than their own triangles were split, and three fuzz inputs that passed failed). Merging by the
+/// those inside merged faces too) at most 4 tol above it (why 4: docs/fuzzing.md). Merging by the
 /// seed's plane alone can break each (a dropped vertex outside the plane of the rest, a loop
 /// turning back, a face left with two vertices).
 inline bool face_is_sound(state const& b, std::vector<int> const& l, std::vector<int> const& all) {
