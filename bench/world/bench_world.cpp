@@ -118,6 +118,7 @@ void register_static_scene(int side, BroadPhaseKind kind) {
     st.counters["prepare_us"] = 1e6 * p.prepare;
     st.counters["solve_us"] = 1e6 * p.solve;
     st.counters["finalize_us"] = 1e6 * p.finalize;
+    st.counters["continuous_us"] = 1e6 * p.continuous;
   })->Unit(benchmark::kMicrosecond);
 }
 

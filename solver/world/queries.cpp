@@ -134,6 +134,12 @@ BodyError World::set_layers(BodyId id, CollisionLayers const& layers) {
   return BodyError::none;
 }
 
+BodyError World::set_bullet(BodyId id, bool bullet) {
+  if (!is_alive(id)) return BodyError::bad_body;
+  bodies_[id.index].bullet = bullet;
+  return BodyError::none;
+}
+
 // ------------------------------------------------------------------------ rays
 
 namespace {
@@ -464,6 +470,16 @@ inline constexpr bool lane_shape_v = std::is_same_v<S, Sphere> || std::is_same_v
                                      std::is_same_v<S, Cuboid> || std::is_same_v<S, Cylinder>;
 
 } // namespace
+
+std::optional<WorldShapeHit> detail::cast_against(BodyShape const& body, Iso3 const& body_pose,
+                                                  BodyShape const& shape, Iso3 const& pose,
+                                                  Vec3 const& motion, ShapeCastConfig const& cfg) {
+  if (!usable_cast(pose, motion, cfg)) return {};
+  return with_convex(shape, [&](auto const& q, bool convex) -> std::optional<WorldShapeHit> {
+    if (!convex) return {};
+    return cast_against_body(body, body_pose, q, pose, motion, cfg);
+  });
+}
 
 std::optional<WorldShapeHit> World::shape_cast(BodyShape const& shape, Iso3 const& pose,
                                                Vec3 const& motion, ShapeCastConfig const& cfg,

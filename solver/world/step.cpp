@@ -342,9 +342,11 @@ void World::store_impulses(GConstraintBlocks<GContactConstraint, T> const& block
   });
 }
 
-/// Poses from the accumulated deltas; a body whose state turned non-finite is frozen.
+/// Poses from the accumulated deltas; a body whose state turned non-finite is frozen. Dynamic
+/// bodies that moved far for their size go to fast_ for the continuous pass.
 void World::finalize_bodies() {
   std::vector<std::uint32_t> newly_frozen;
+  fast_.clear();
   for (std::uint32_t i : moving_bodies_) {
     Body& b = bodies_[i];
     if (!b.moves()) continue;
@@ -359,6 +361,11 @@ void World::finalize_bodies() {
       newly_frozen.push_back(i);
       frozen_.push_back(BodyId{i, bodies_[i].generation});
       continue;
+    }
+    if (config_.continuous && b.type == BodyType::dynamic && !b.sensor) {
+      float const moved = s.delta_position.length();
+      if (moved > 0.0f && moved >= config_.ccd_fraction * b.min_extent)
+        fast_.push_back({i, b.center});
     }
     b.center = center;
     b.pose.rotation = q;
@@ -407,12 +414,17 @@ void World::step_with(float dt) {
   store_impulses(blocks);
   store_joint_impulses(joints);
   finalize_bodies();
+  auto const t_continuous = clock::now();
+  bool const synced = solve_continuous();
+  profile_.continuous = seconds_since(t_continuous);
   update_joint_reactions(h);
-  trees_synced_ = false;    // bodies moved: the trees follow now (BVH), or at the first query
-  all_moving_stale_ = true; // the list of single edits is moot until the next sync
-  stale_moving_.clear();
+  if (!synced) {
+    trees_synced_ = false;    // bodies moved: the trees follow now (BVH), or at the first query
+    all_moving_stale_ = true; // the list of single edits is moot until the next sync
+    stale_moving_.clear();
+  }
   if (config_.broad_phase == BroadPhaseKind::bvh) sync_trees();
-  profile_.finalize = seconds_since(t_finalize);
+  profile_.finalize = seconds_since(t_finalize) - profile_.continuous;
   profile_.total = seconds_since(t_start);
 }
 

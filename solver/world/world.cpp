@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -46,6 +47,31 @@ MassProperties shape_mass(BodyShape const& shape, float density) {
       shape);
 }
 
+/// The distance from c (in the shape's frame) to the nearest point of the shape's surface, for
+/// c inside the shape (its centre of mass): exact for the primitives, the nearest face plane
+/// for a hull; 0 for shapes without an inside.
+float shape_min_extent(BodyShape const& shape, Vec3 const& c) {
+  return std::visit(
+      [&](auto const& s) -> float {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, Sphere> || std::is_same_v<S, Capsule>) {
+          return s.radius;
+        } else if constexpr (std::is_same_v<S, Cuboid>) {
+          return std::min({s.half_extents.x, s.half_extents.y, s.half_extents.z});
+        } else if constexpr (std::is_same_v<S, Cylinder>) {
+          return std::min(s.half_height, s.radius);
+        } else if constexpr (std::is_same_v<S, ConvexHull>) {
+          float d = std::numeric_limits<float>::infinity();
+          for (HullFace const& f : s.faces())
+            d = std::min(d, f.offset - f.normal.dot(c));
+          return s.faces().empty() ? 0.0f : std::max(d, 0.0f);
+        } else {
+          return 0.0f;
+        }
+      },
+      shape);
+}
+
 Aabb3 shape_aabb(BodyShape const& shape, Iso3 const& pose) {
   return std::visit([&](auto const& s) { return s.aabb(pose); }, shape);
 }
@@ -71,6 +97,7 @@ bool World::give_mass(Body& b) {
   b.inertia_local = mp.inertia;
   auto const inv = mp.inertia.try_inverse();
   b.inv_inertia_local = inv.valid && inv.value.is_finite() ? inv.value : Mat3::ZERO;
+  b.min_extent = shape_min_extent(b.shape, b.local_center);
   return true;
 }
 
@@ -158,6 +185,7 @@ CreateBodyResult World::create_body(BodyDef const& def) {
   b.gravity_scale = def.gravity_scale;
   b.layers = def.layers;
   b.sensor = def.sensor;
+  b.bullet = def.bullet;
   b.density = def.density;
   if (def.type == BodyType::dynamic && !give_mass(b)) return {{}, BodyError::zero_mass};
   b.center = b.pose.transform_point(b.local_center);

@@ -391,6 +391,10 @@ void create_body(plume::World& w, Mirror& m, Input& in) {
   def.gravity_scale = (k & 64) ? material(in, 0, 2, g) : 1.0f;
   def.layers.memberships = (in.byte() & 3) == 0 ? 2u : 1u;
   def.sensor = (k & 0x80) && (in.byte() & 7) == 0;
+  // Fast bodies and bullets: continuous collision's sweeps.
+  std::uint8_t const fast = in.byte();
+  def.bullet = (fast & 1) != 0;
+  if (fast & 2) def.linear_velocity = def.linear_velocity * 60.0f; // up to 300 m/s
 
   // The documented errors this definition has.
   bool const non_finite = bad_pose || bad_v || bad_w || f.non_finite || g.non_finite;
@@ -471,6 +475,7 @@ void create_body(plume::World& w, Mirror& m, Input& in) {
     PLUME_FUZZ_CHECK(w.mass(id) > 0.0f && std::isfinite(w.mass(id)));
   PLUME_FUZZ_CHECK(w.layers(id).memberships == def.layers.memberships);
   PLUME_FUZZ_CHECK(w.is_sensor(id) == def.sensor);
+  PLUME_FUZZ_CHECK(w.is_bullet(id) == def.bullet);
   PLUME_FUZZ_CHECK(!w.is_frozen(id));
   PLUME_FUZZ_CHECK(w.body_joints(id).empty());
   m.bodies.push_back({id, true, def.type, triangles, massless});
@@ -865,6 +870,12 @@ void step(plume::World& w, Mirror& m, Input& in, int& steps) {
   }
   for (plume::BodyPair const& p : ev.contact_begin)
     PLUME_FUZZ_CHECK(w.is_alive(p.a) && w.is_alive(p.b));
+  // Swept bodies: live dynamic bodies, each once, by index.
+  for (std::size_t i = 0; i < ev.continuous_stops.size(); ++i) {
+    BodyId const b = ev.continuous_stops[i];
+    PLUME_FUZZ_CHECK(w.is_alive(b) && w.type(b) == plume::BodyType::dynamic);
+    if (i > 0) PLUME_FUZZ_CHECK(ev.continuous_stops[i - 1].index < b.index);
+  }
   for (JointId const j : ev.joint_broken)
     PLUME_FUZZ_CHECK(w.is_alive(j));
   for (MirrorJoint const& j : m.joints) {
