@@ -405,10 +405,10 @@ TEST_CASE("joints: a 20-link chain keeps its length for 10 s, with a 1:100 end m
 TEST_CASE("joints: a ragdoll falls on the ground and comes to rest without jitter",
           "[joints][ragdoll]") {
   // Without continuous collision: the sweeps put the feet back a few times in the landing,
-  // and that landing leaves the head rolling against the neck's limits at 0.05-0.08 m/s for
-  // 20 s. That happens without sweeps too, from other pushes (1.5 m/s instead of 2): a known
-  // defect of the ragdoll at rest (docs/joints.md, "Known issues"), not of the sweeps; this
-  // test keeps the landing it was measured on.
+  // and that landing leaves the head rolling on its neck at 0.05-0.08 m/s for 20 s. Nothing
+  // stops a rolling ball (contacts have no rolling resistance), so whether the ragdoll comes
+  // to rest depends on how it lands, with or without sweeps (docs/joints.md, "Known
+  // limits"); this test keeps the landing it was measured on.
   WorldConfig cfg;
   cfg.continuous = false;
   World w(cfg);
