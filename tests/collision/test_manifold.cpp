@@ -501,3 +501,137 @@ TEST_CASE("manifold: a face far from the shape's origin still clips", "[collisio
   CHECK(m.count == 4);
   CHECK(m.normal.distance(Vec3{0, 1, 0}) <= 1e-5f);
 }
+
+namespace {
+
+/// The closed-form sphere pairs against the penetration query (GJK, EPA) on the same shapes:
+/// n random poses of b around a sphere (centres within 2.5 of each other, so apart, touching
+/// and deep), both orders, float and double.
+template <ScalarReal S, class B, class MakeB>
+void sphere_pair_agrees(MakeB make_b, std::uint32_t seed, int n) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1), r(0.1, 1);
+  auto const quat = [&] {
+    return GQuat<S>::from_axis_angle(
+        GVec3<S>{S(u(rng)), S(u(rng)), S(u(rng))}.normalize_or(GVec3<S>{1, 0, 0}),
+        S(3.14159 * u(rng)));
+  };
+  ManifoldConfig cfg;
+  cfg.prediction = 10; // every pair gets its point
+  int deep = 0, apart = 0;
+  for (int k = 0; k < n; ++k) {
+    GSphere<S> const a{S(r(rng))};
+    B const b = make_b(rng);
+    GIso3<S> const pa{quat(), {S(u(rng)), S(u(rng)), S(u(rng))}};
+    GIso3<S> const pb{quat(), pa.translation + GVec3<S>{S(u(rng)), S(u(rng)), S(u(rng))} * S(1.4)};
+    GManifold<S> const m = contact_manifold(a, pa, b, pb, cfg);
+    GManifold<S> const w = contact_manifold(b, pb, a, pa, cfg);
+    GPenetrationResult<S> const p = penetration(a, pa, b, pb);
+    INFO("pair " << k << ": depth " << double(p.depth) << ", status " << int(p.status));
+    REQUIRE(p.status != PenetrationStatus::failed);
+    REQUIRE(m.count == 1);
+    REQUIRE(w.count == 1);
+    auto const& c = m.points[0];
+    CHECK(std::abs(c.separation + p.depth) <= S(2e-5));
+    CHECK(std::abs(m.normal.length() - S(1)) <= S(1e-5));
+    CHECK(((c.point_b - c.point_a) - m.normal * c.separation).length() <= S(2e-5));
+    // The other order: the same contact seen from b.
+    CHECK(w.normal.distance(-m.normal) <= S(1e-6));
+    CHECK(w.points[0].point_a.distance(c.point_b) <= S(1e-6));
+    CHECK(w.points[0].point_b.distance(c.point_a) <= S(1e-6));
+    CHECK(w.points[0].separation == c.separation);
+    // The points lie on the surfaces (A's at its radius from its centre, B's at depth 0 in B,
+    // by the penetration query of a point), and they are joined by the separation along the
+    // normal, which is GJK/EPA's distance: apart, they are therefore the nearest points, and
+    // those are unique for a sphere. (GJK's own points are not the oracle: its distance
+    // tolerance, 1e-5, lets them slide 5e-4 along the surfaces of shapes 1 m apart.)
+    CHECK(std::abs(c.point_a.distance(pa.translation) - a.radius) <= S(2e-5));
+    GPenetrationResult<S> const on_b =
+        penetration(GSphere<S>{S(0)}, GIso3<S>{{}, c.point_b}, b, pb);
+    CHECK(std::abs(on_b.depth) <= S(2e-5));
+    if (p.depth < S(-1e-3)) {
+      ++apart;
+      CHECK(m.normal.dot(p.normal) >= S(1) - S(1e-5));
+    } else if (p.depth > S(1e-3)) {
+      ++deep; // the least deep direction: the depth only (near ties, EPA's may be the other)
+    }
+  }
+  CHECK(apart > n / 10);
+  CHECK(deep > n / 10);
+}
+
+} // namespace
+
+TEST_CASE("manifold: spheres against spheres, capsules and cuboids in closed form agree with "
+          "GJK/EPA",
+          "[collision][manifold]") {
+  auto const run = [](auto s) {
+    using S = decltype(s);
+    auto const size = [](std::mt19937& rng) {
+      return S(std::uniform_real_distribution<double>(0.05, 1)(rng));
+    };
+    sphere_pair_agrees<S, GSphere<S>>([&](std::mt19937& rng) { return GSphere<S>{size(rng)}; }, 11,
+                                      500);
+    sphere_pair_agrees<S, GCapsule<S>>(
+        [&](std::mt19937& rng) {
+          return GCapsule<S>{size(rng), S(0.5) * size(rng)};
+        },
+        12, 500);
+    sphere_pair_agrees<S, GCuboid<S>>(
+        [&](std::mt19937& rng) {
+          return GCuboid<S>{{size(rng), size(rng), size(rng)}};
+        },
+        13, 2000);
+  };
+  run(float{});
+  run(double{});
+}
+
+TEST_CASE("manifold: closed-form sphere pairs at coincident centres and inside boxes",
+          "[collision][manifold]") {
+  ManifoldConfig const cfg;
+  // Coincident centres: +Y, depth the sum of the radii, points on both surfaces.
+  Manifold const ss = contact_manifold(Sphere{0.5f}, at({1, 2, 3}), Sphere{0.25f}, at({1, 2, 3}));
+  REQUIRE(ss.count == 1);
+  CHECK(ss.normal.distance(Vec3::Y) == 0);
+  CHECK(ss.points[0].separation == -0.75f);
+  CHECK(ss.points[0].point_a.distance(Vec3{1, 2.5f, 3}) == 0);
+  check_manifold(ss);
+  // A sphere centred on a capsule's core: a normal across the core, never along it.
+  Quat const q = Quat::from_rotation_z(0.7f);
+  Manifold const sc =
+      contact_manifold(Capsule{1, 0.2f}, at({0, 0, 0}, q), Sphere{0.3f}, at(q * Vec3{0, 0.6f, 0}));
+  REQUIRE(sc.count == 1);
+  CHECK(std::abs(sc.normal.dot(q * Vec3::Y)) <= 1e-6f);
+  CHECK(sc.points[0].separation == Approx(-0.5f).margin(1e-6));
+  check_manifold(sc);
+  // ... 1,000 m away, where the core point's rounding (6e-5) is larger than the offset.
+  Vec3 const far{1000, -1000, 1000};
+  for (float along : {-0.9f, -0.3f, 0.2f, 0.7f}) {
+    Manifold const fc = contact_manifold(Sphere{0.3f}, at(far + q * Vec3{0, along, 0}),
+                                         Capsule{1, 0.2f}, at(far, q));
+    REQUIRE(fc.count == 1);
+    CHECK(std::abs(fc.normal.dot(q * Vec3::Y)) <= 1e-6f);
+    CHECK(fc.points[0].separation == Approx(-0.5f).margin(1e-4));
+  }
+  // Inside a box: the face the centre is least deep behind, here -z of a rotated box (0.1
+  // behind it); the box's point on that face.
+  Cuboid const box{{1, 0.6f, 0.4f}};
+  Iso3 const bp = at({5, 0, 0}, q);
+  Manifold const sb =
+      contact_manifold(box, bp, Sphere{0.2f}, at(bp.transform_point({0.5f, 0.3f, -0.3f})));
+  REQUIRE(sb.count == 1);
+  CHECK(sb.normal.distance(q * Vec3{0, 0, -1}) <= 1e-6f);
+  CHECK(sb.points[0].separation == Approx(-0.3f).margin(1e-6));
+  CHECK(sb.points[0].point_a.distance(bp.transform_point({0.5f, 0.3f, -0.4f})) <= 1e-6f);
+  check_manifold(sb);
+  // Ties go to the first face in the order +x, -x, +y, -y, +z, -z: the centre of a cube.
+  Manifold const tie = contact_manifold(Sphere{0.1f}, Iso3{}, Cuboid{{1, 1, 1}}, Iso3{});
+  REQUIRE(tie.count == 1);
+  CHECK(tie.normal.distance(Vec3::NEG_X) == 0); // from the sphere (A) toward the box: -(+x)
+  // Squares that overflow are `failed`, as in GJK; a shape beyond the prediction, no point.
+  CHECK(contact_manifold(Sphere{1}, at({0, 0, 0}), Sphere{1}, at({3e19f, 0, 0})).failed);
+  CHECK(contact_manifold(Sphere{1}, at({0, 3e19f, 0}), box, Iso3{}).failed);
+  CHECK(contact_manifold(Sphere{1}, at({0, 0, 0}), Sphere{1}, at({2 + 2 * cfg.prediction, 0, 0}))
+            .count == 0);
+}

@@ -27,7 +27,9 @@
 //    clipped against the reference face's side planes (Sutherland-Hodgman) and the normal is
 //    the reference face's. Otherwise (edge against edge) one point. Triangles are two-sided.
 //  - Capsules: two points when the core segment lies parallel to a reference face (or to the
-//    other capsule), else one. Spheres: one point.
+//    other capsule), else one. Spheres: one point; against a sphere, a capsule or a cuboid
+//    in closed form (the nearest core points; a sphere's centre inside a cuboid takes the
+//    face it is least deep behind), against anything else from the penetration query.
 //  - More than 4 points are reduced to 4: the deepest, the farthest from it, the one making
 //    the largest triangle with them, and the one adding the most area to that triangle.
 #pragma once
@@ -698,6 +700,109 @@ void capsule_pair(CA const& a, GIso3<S> const& pose_a, CB const& b, GIso3<S> con
   if (m.count == 0) single_point(p, m, cfg);
 }
 
+/// Two round cores that are points: ca on A's (radius ra), cb on B's (radius rb), world, d =
+/// cb - ca (given: a caller may know it better than the difference of the rounded points).
+/// One point along d; shorter than the least normal square (about 1e-19 m in float), the
+/// fallback normal (the cores count as coincident). A square that overflows is `failed`, as
+/// in GJK.
+template <ScalarReal S>
+void round_points(GVec3<S> const& ca, S ra, GVec3<S> const& cb, S rb, GVec3<S> const& d,
+                  GVec3<S> const& fallback, ManifoldConfig const& cfg, GManifold<S>& m) noexcept {
+  S const d2 = d.dot(d);
+  if (!std::isfinite(d2)) {
+    m.failed = true;
+    return;
+  }
+  bool const apart = d2 >= std::numeric_limits<S>::min();
+  S const dist = apart ? std::sqrt(d2) : S(0);
+  GVec3<S> const n = apart ? d / dist : fallback;
+  S const sep = dist - (ra + rb); // the same in either order
+  m.normal = n;
+  if (!(sep <= S(cfg.prediction))) return;
+  m.points[0] = {ca + n * ra, cb - n * rb, sep, 0};
+  m.count = 1;
+}
+
+/// A sphere (s at ps) and a capsule (c at pc): the capsule's core point nearest the sphere's
+/// centre, then round_points. Between the core's ends, the offset from the core is the
+/// centre's offset from the capsule's centre rejected from the axis (the pose's y axis, not
+/// the difference of the rounded ends) twice, so that rounding leaves no part along the axis:
+/// a centre on the core gets a normal across it, never along it (a fixed one when the offset
+/// is zero; +Y for a capsule of zero height).
+template <bool SphereIsA, ScalarReal S>
+void sphere_capsule(GSphere<S> const& s, GIso3<S> const& ps, GCapsule<S> const& c,
+                    GIso3<S> const& pc, ManifoldConfig const& cfg, GManifold<S>& m) noexcept {
+  GVec3<S> const axis = pc.rotation * GVec3<S>{S(0), S(1), S(0)};
+  GVec3<S> const centre = ps.translation, w = centre - pc.translation;
+  S const along = w.dot(axis), h = c.half_height;
+  if (!std::isfinite(w.dot(w))) {
+    m.failed = true;
+    return;
+  }
+  GVec3<S> q, off; // the core point nearest the centre, and centre - q
+  if (along <= -h || along >= h) {
+    q = pc.transform_point({S(0), along <= -h ? -h : h, S(0)});
+    off = centre - q;
+  } else {
+    off = w - axis * along;
+    off = off - axis * off.dot(axis);
+    q = centre - off;
+  }
+  GVec3<S> const across = h > S(0) ? axis.any_orthonormal_vector() : GVec3<S>{S(0), S(1), S(0)};
+  if constexpr (SphereIsA)
+    round_points(centre, s.radius, q, c.radius, -off, across, cfg, m);
+  else
+    round_points(q, c.radius, centre, s.radius, off, across, cfg, m);
+}
+
+/// A sphere (s at ps) and a cuboid (b at pb), in the box's frame. Centre outside the box:
+/// along the centre minus its nearest box point. Inside (or closer to the surface than about
+/// 1e-19 m in float): the face the centre is least deep behind (order +x, -x, +y, -y, +z,
+/// -z; the first on ties), as EPA's least-penetration axis.
+template <bool SphereIsA, ScalarReal S>
+void sphere_cuboid(GSphere<S> const& s, GIso3<S> const& ps, GCuboid<S> const& b, GIso3<S> const& pb,
+                   ManifoldConfig const& cfg, GManifold<S>& m) noexcept {
+  GVec3<S> const c = pb.inverse_transform_point(ps.translation), h = b.half_extents;
+  GVec3<S> const q = c.clamp(-h, h), d = c - q;
+  S const d2 = d.dot(d);
+  if (!std::isfinite(c.dot(c))) {
+    m.failed = true;
+    return;
+  }
+  GVec3<S> n_local, on_box; // box toward sphere
+  S sep;
+  if (d2 >= std::numeric_limits<S>::min()) {
+    S const dist = std::sqrt(d2);
+    n_local = d / dist;
+    on_box = q;
+    sep = dist - s.radius;
+  } else {
+    std::array<S, 3> const cc{c.x, c.y, c.z}, hh{h.x, h.y, h.z};
+    int axis = 0;
+    S sign = S(1), depth = hh[0] - cc[0];
+    for (int i = 0; i < 3; ++i)
+      for (int k = 0; k < 2; ++k) {
+        S const sg = k == 0 ? S(1) : S(-1);
+        S const di = hh[i] - sg * cc[i];
+        if (di < depth) depth = di, axis = i, sign = sg;
+      }
+    std::array<S, 3> nn{S(0), S(0), S(0)}, pp = cc;
+    nn[axis] = sign;
+    pp[axis] = sign * hh[axis];
+    n_local = {nn[0], nn[1], nn[2]};
+    on_box = {pp[0], pp[1], pp[2]};
+    sep = -depth - s.radius;
+  }
+  GVec3<S> const n = pb.rotation * n_local;
+  m.normal = SphereIsA ? -n : n;
+  if (!(sep <= S(cfg.prediction))) return;
+  GVec3<S> const point_box = pb.transform_point(on_box),
+                 point_sphere = ps.translation - n * s.radius;
+  m.points[0] = SphereIsA ? GContactPoint<S>{point_sphere, point_box, sep, 0}
+                          : GContactPoint<S>{point_box, point_sphere, sep, 0};
+  m.count = 1;
+}
+
 } // namespace detail
 
 /// The contact manifold between shape a (at pose_a) and shape b (at pose_b). See the top of
@@ -724,29 +829,50 @@ GManifold<S> contact_manifold(A const& a, GIso3<S> const& pose_a, B const& b,
     detail::against_plane(n, pose_b.translation, a, pose_a, true, cfg, m);
     return m;
   } else {
-    if constexpr (std::is_same_v<A, GCuboid<S>> && std::is_same_v<B, GCuboid<S>>) {
-      // Boxes: the separating-axis test finds face contacts (nearly all of a box pile) at a
-      // fraction of GJK + EPA's cost; edge contacts and empty clips take the general path.
-      if (detail::box_pair(a, pose_a, b, pose_b, cfg, m)) return m;
-    }
-    GPenetrationResult<S> const p = penetration(a, pose_a, b, pose_b, cfg.epa);
-    if (p.status == PenetrationStatus::failed) {
-      m.failed = true;
+    // Spheres against spheres, capsules and cuboids in closed form: GJK + EPA would find the
+    // same point (within their tolerance) at several times the cost.
+    if constexpr (std::is_same_v<A, GSphere<S>> && std::is_same_v<B, GSphere<S>>) {
+      detail::round_points(pose_a.translation, a.radius, pose_b.translation, b.radius,
+                           pose_b.translation - pose_a.translation, GVec3<S>{S(0), S(1), S(0)}, cfg,
+                           m);
+      return m;
+    } else if constexpr (std::is_same_v<A, GSphere<S>> && std::is_same_v<B, GCapsule<S>>) {
+      detail::sphere_capsule<true>(a, pose_a, b, pose_b, cfg, m);
+      return m;
+    } else if constexpr (std::is_same_v<A, GCapsule<S>> && std::is_same_v<B, GSphere<S>>) {
+      detail::sphere_capsule<false>(b, pose_b, a, pose_a, cfg, m);
+      return m;
+    } else if constexpr (std::is_same_v<A, GSphere<S>> && std::is_same_v<B, GCuboid<S>>) {
+      detail::sphere_cuboid<true>(a, pose_a, b, pose_b, cfg, m);
+      return m;
+    } else if constexpr (std::is_same_v<A, GCuboid<S>> && std::is_same_v<B, GSphere<S>>) {
+      detail::sphere_cuboid<false>(b, pose_b, a, pose_a, cfg, m);
+      return m;
+    } else {
+      if constexpr (std::is_same_v<A, GCuboid<S>> && std::is_same_v<B, GCuboid<S>>) {
+        // Boxes: the separating-axis test finds face contacts (nearly all of a box pile) at a
+        // fraction of GJK + EPA's cost; edge contacts and empty clips take the general path.
+        if (detail::box_pair(a, pose_a, b, pose_b, cfg, m)) return m;
+      }
+      GPenetrationResult<S> const p = penetration(a, pose_a, b, pose_b, cfg.epa);
+      if (p.status == PenetrationStatus::failed) {
+        m.failed = true;
+        return m;
+      }
+      m.normal = p.normal;
+      if (-p.depth > S(cfg.prediction)) return m;
+      if constexpr (KA::polytope && KB::polytope)
+        detail::polytope_pair(a, pose_a, b, pose_b, p, cfg, m);
+      else if constexpr (KA::capsule && KB::polytope)
+        detail::capsule_on_polytope<true>(a, pose_a, b, pose_b, p, cfg, m);
+      else if constexpr (KA::polytope && KB::capsule)
+        detail::capsule_on_polytope<false>(b, pose_b, a, pose_a, p, cfg, m);
+      else if constexpr (KA::capsule && KB::capsule)
+        detail::capsule_pair(a, pose_a, b, pose_b, p, cfg, m);
+      else
+        detail::single_point(p, m, cfg);
       return m;
     }
-    m.normal = p.normal;
-    if (-p.depth > S(cfg.prediction)) return m;
-    if constexpr (KA::polytope && KB::polytope)
-      detail::polytope_pair(a, pose_a, b, pose_b, p, cfg, m);
-    else if constexpr (KA::capsule && KB::polytope)
-      detail::capsule_on_polytope<true>(a, pose_a, b, pose_b, p, cfg, m);
-    else if constexpr (KA::polytope && KB::capsule)
-      detail::capsule_on_polytope<false>(b, pose_b, a, pose_a, p, cfg, m);
-    else if constexpr (KA::capsule && KB::capsule)
-      detail::capsule_pair(a, pose_a, b, pose_b, p, cfg, m);
-    else
-      detail::single_point(p, m, cfg);
-    return m;
   }
 }
 
