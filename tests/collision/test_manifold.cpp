@@ -632,6 +632,8 @@ TEST_CASE("manifold: closed-form sphere pairs at coincident centres and inside b
   // Squares that overflow are `failed`, as in GJK; a shape beyond the prediction, no point.
   CHECK(contact_manifold(Sphere{1}, at({0, 0, 0}), Sphere{1}, at({3e19f, 0, 0})).failed);
   CHECK(contact_manifold(Sphere{1}, at({0, 3e19f, 0}), box, Iso3{}).failed);
+  CHECK(contact_manifold(Capsule{1, 0.2f}, Iso3{}, Sphere{1}, at({3e19f, 0, 0})).failed);
+  CHECK(contact_manifold(Sphere{1}, at({0, -3e19f, 0}), Capsule{1, 0.2f}, Iso3{}).failed);
   CHECK(contact_manifold(Sphere{1}, at({0, 0, 0}), Sphere{1}, at({2 + 2 * cfg.prediction, 0, 0}))
             .count == 0);
 }

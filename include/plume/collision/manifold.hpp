@@ -735,10 +735,7 @@ void sphere_capsule(GSphere<S> const& s, GIso3<S> const& ps, GCapsule<S> const& 
   GVec3<S> const axis = pc.rotation * GVec3<S>{S(0), S(1), S(0)};
   GVec3<S> const centre = ps.translation, w = centre - pc.translation;
   S const along = w.dot(axis), h = c.half_height;
-  if (!std::isfinite(w.dot(w))) {
-    m.failed = true;
-    return;
-  }
+  // Overflow needs no test of its own: a non-finite offset or square fails in round_points.
   GVec3<S> q, off; // the core point nearest the centre, and centre - q
   if (along <= -h || along >= h) {
     q = pc.transform_point({S(0), along <= -h ? -h : h, S(0)});
@@ -829,8 +826,8 @@ GManifold<S> contact_manifold(A const& a, GIso3<S> const& pose_a, B const& b,
     detail::against_plane(n, pose_b.translation, a, pose_a, true, cfg, m);
     return m;
   } else {
-    // Spheres against spheres, capsules and cuboids in closed form: GJK + EPA would find the
-    // same point (within their tolerance) at several times the cost.
+    // Spheres against spheres, capsules and cuboids in closed form: the nearest core points
+    // exactly, where GJK + EPA find them within their tolerance.
     if constexpr (std::is_same_v<A, GSphere<S>> && std::is_same_v<B, GSphere<S>>) {
       detail::round_points(pose_a.translation, a.radius, pose_b.translation, b.radius,
                            pose_b.translation - pose_a.translation, GVec3<S>{S(0), S(1), S(0)}, cfg,
