@@ -81,18 +81,21 @@
 #endif
 
 // PLUME_INLINE: small functions that must vanish into their caller (a wide kernel that calls
-// out of line passes every batch through memory). PLUME_FLATTEN: on the few large entry
-// points (GJK queries) whose size makes g++ stop inlining even trivial methods inside them;
-// it inlines every call in their body. Both only when optimising: at -O0 (debug and
+// out of line passes every batch through memory); PLUME_INLINE_LAMBDA the same for a lambda
+// (after its parameter list) that a kernel calls from more than one place. PLUME_FLATTEN: on the
+// few large entry points (GJK queries) whose size makes g++ stop inlining even trivial methods
+// inside them; it inlines every call in their body. Both only when optimising: at -O0 (debug and
 // sanitizer builds) forcing them costs compile time and gains nothing (the sanitizer build's
 // collision ray-cast tests compiled in 46 s forced, 13 s not), and inlining changes no
 // result (-ffp-contract=off: the golden hashes are the same either way).
 #if defined(__GNUC__) && defined(__OPTIMIZE__)
 #define PLUME_INLINE inline __attribute__((always_inline))
+#define PLUME_INLINE_LAMBDA __attribute__((always_inline))
 #define PLUME_NOINLINE __attribute__((noinline))
 #define PLUME_FLATTEN __attribute__((flatten))
 #else
 #define PLUME_INLINE inline
+#define PLUME_INLINE_LAMBDA
 #define PLUME_NOINLINE
 #define PLUME_FLATTEN
 #endif

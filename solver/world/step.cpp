@@ -200,8 +200,10 @@ void World::pack_contacts(GConstraintBlocks<GContactConstraint, T>& blocks, floa
       Softness::make(config_.static_hertz_scale * hertz, config_.contact_damping_ratio, h);
   std::span<Contact const> const contacts = cache_.contacts();
   std::int32_t const identity = std::int32_t(bodies_.size());
-  blocks.pack(
-      cache_.colors(),
+  // Each colour by point count, so one-point manifolds (a sphere on a box) fill blocks of
+  // their own and solve one row per lane, not four.
+  blocks.template pack_grouped<5>(
+      cache_.colors(), [&](std::uint32_t ci) { return std::uint32_t(contacts[ci].manifold.count); },
       [&]<class U>(GContactConstraint<U>& block, std::size_t lane, std::uint32_t ci) {
         Contact const& c = contacts[ci];
         SolverBody const a = contact_body(c.body_a), b = contact_body(c.body_b);

@@ -268,6 +268,119 @@ TEMPLATE_LIST_TEST_CASE("contact kernels: every lane equals the float kernel bit
   }
 }
 
+TEMPLATE_LIST_TEST_CASE("contact kernels: a lane with fewer points than its block keeps its "
+                        "bits (signed zeros included) as the float kernel does",
+                        "[solver][lane-exact]", plume::test::f32_wide_types) {
+  // Blocks whose lanes hold 1..4 points run the most points any lane has, and mask a point
+  // out of the lanes that lack it. The float kernel, one manifold at a time, stops at the
+  // manifold's own count: every lane must match it bit for bit, with velocities that start
+  // at -0, +0 or a value and normals along +-y (zeros in x and z). A mask on the wrong lanes
+  // or points fails here; 20,000 trials of this kind found no case where dropping the mask
+  // changes a bit (the real points' and friction rows' zero impulses flip a -0 first), so
+  // the mask is a guarantee this test cannot show missing.
+  using T = TestType;
+  constexpr std::size_t W = lanes_v<T>;
+  std::mt19937 rng(77);
+  std::uniform_int_distribution<int> pick(0, 2);
+  auto const signed_zero_vec = [&](float r) {
+    Vec3 v = random_vec(rng, r);
+    for (float* x : {&v.x, &v.y, &v.z})
+      if (int const k = pick(rng); k < 2) *x = k == 0 ? -0.0f : 0.0f;
+    return v;
+  };
+  for (int trial = 0; trial < 40; ++trial) {
+    std::size_t const n = 2 * W;
+    std::vector<BodyState> states(n + 1);
+    std::vector<SolverBody> bodies(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      states[i].linear_velocity = signed_zero_vec(2.0f);
+      states[i].angular_velocity = signed_zero_vec(1.0f);
+      bodies[i].state = bodies[i].write = std::int32_t(i);
+      bodies[i].inv_mass = 1.0f;
+      bodies[i].inv_inertia = trial % 2 == 0 ? Mat3::ZERO : random_inv_inertia(rng);
+      bodies[i].center = random_vec(rng, 1.0f);
+      bodies[i].linear_velocity = states[i].linear_velocity;
+      bodies[i].angular_velocity = states[i].angular_velocity;
+    }
+    SolverBody ground;
+    ground.state = std::int32_t(n);
+    Softness const soft = Softness::make(30.0f, 10.0f, 1.0f / 240.0f);
+    GContactConstraint<T> wide;
+    std::vector<GContactConstraint<float>> narrow(W);
+    for (std::size_t i = 0; i < W; ++i) {
+      SolverBody const& a = (i + std::size_t(trial)) % 3 == 0 ? ground : bodies[2 * i];
+      SolverBody const& b = bodies[2 * i + 1];
+      int const count = int((i + std::size_t(trial)) % 4) + 1; // 1..4: every block mixed
+      Manifold m = random_manifold(rng, b.center, count);
+      m.normal = (i + std::size_t(trial)) % 2 == 0 ? Vec3::Y : -Vec3::Y;
+      for (int k = 0; k < count; ++k) {
+        ContactPoint& p = m.points[std::size_t(k)];
+        p.point_b = p.point_a + m.normal * p.separation;
+      }
+      ContactImpulses warm;
+      for (float& x : warm.normal)
+        x = std::uniform_real_distribution<float>(0.0f, 3.0f)(rng);
+      float const e = i % 2 == 0 ? 0.5f : 0.0f;
+      prepare_contact_lane(wide, i, a, b, m, Vec3::X, warm, 0.0f, e, soft);
+      prepare_contact_lane(narrow[i], 0, a, b, m, Vec3::X, warm, 0.0f, e, soft);
+    }
+    REQUIRE(wide.min_points == 1);
+    REQUIRE(wide.max_points == 4);
+    std::vector<BodyState> s_wide = states, s_narrow = states;
+    // With and without a warm start first (the kernels called on their own).
+    bool const warm_first = trial % 2 == 0;
+    for (int pass = 0; pass < 2; ++pass) {
+      if (warm_first) warm_start_contacts(wide, s_wide.data());
+      solve_contacts(wide, s_wide.data(), 240.0f, 3.0f, pass == 0);
+      solve_contacts(wide, s_wide.data(), 240.0f, 3.0f, false);
+      for (auto& c : narrow) {
+        if (warm_first) warm_start_contacts(c, s_narrow.data());
+        solve_contacts(c, s_narrow.data(), 240.0f, 3.0f, pass == 0);
+        solve_contacts(c, s_narrow.data(), 240.0f, 3.0f, false);
+      }
+    }
+    apply_restitution(wide, s_wide.data(), 0.01f);
+    for (auto& c : narrow)
+      apply_restitution(c, s_narrow.data(), 0.01f);
+    for (std::size_t i = 0; i < n; ++i) {
+      INFO("trial " << trial << ", body " << i);
+      CHECK(same_vec(s_wide[i].linear_velocity, s_narrow[i].linear_velocity));
+      CHECK(same_vec(s_wide[i].angular_velocity, s_narrow[i].angular_velocity));
+    }
+    for (std::size_t i = 0; i < W; ++i) {
+      ContactImpulses const x = contact_impulses(wide, i), y = contact_impulses(narrow[i], 0);
+      for (std::size_t k = 0; k < 4; ++k)
+        CHECK(same_bits(x.normal[k], y.normal[k]));
+    }
+  }
+}
+
+TEST_CASE("contact kernels: point counts run only the points prepared", "[solver]") {
+  // A default constraint runs nothing; prepare records each lane's count, padding lanes
+  // (clear_contact_lane) none.
+  GContactConstraint<f32xN> c;
+  CHECK(c.max_points == 0);
+  std::mt19937 rng(3);
+  SolverBody a, b;
+  b.state = b.write = 0;
+  b.inv_mass = 1.0f;
+  prepare_contact_lane(c, 0, a, b, random_manifold(rng, Vec3{}, 2), Vec3::X, {}, 0.5f, 0.0f,
+                       Softness{});
+  CHECK(c.max_points == 2);
+  CHECK(c.min_points == 2);
+  CHECK(c.point_count[0] == 2.0f);
+  if constexpr (lanes_v < f32xN >> 1) {
+    clear_contact_lane(c, 1, 1);
+    CHECK(c.max_points == 2);
+    CHECK(c.min_points == 2);
+    CHECK(c.point_count[1] == 0.0f);
+    prepare_contact_lane(c, 2, a, b, random_manifold(rng, Vec3{}, 3), Vec3::X, {}, 0.5f, 0.0f,
+                         Softness{});
+    CHECK(c.max_points == 3);
+    CHECK(c.min_points == 2);
+  }
+}
+
 TEST_CASE("contact kernels: one point against closed forms", "[solver]") {
   // A unit-mass point body (no rotation: zero inverse inertia) 0.1 m above static ground,
   // falling at 10 m/s; substep h = 1/100 s.

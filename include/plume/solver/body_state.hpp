@@ -146,6 +146,21 @@ struct GConstraintBodies {
     return (b.linear_velocity + b.angular_velocity.cross(rb)) -
            (a.linear_velocity + a.angular_velocity.cross(ra));
   }
+
+  /// The four velocities the impulses change, to restore lanes with keep_lanes().
+  struct Velocities {
+    GVec3<T> va, wa, vb, wb;
+  };
+  PLUME_INLINE Velocities velocities() const noexcept {
+    return {a.linear_velocity, a.angular_velocity, b.linear_velocity, b.angular_velocity};
+  }
+  /// Lanes where `kept` is false get their velocities back from `before`, bit for bit.
+  PLUME_INLINE void keep_lanes(mask_t<T> const& kept, Velocities const& before) noexcept {
+    a.linear_velocity = GVec3<T>::select(kept, a.linear_velocity, before.va);
+    a.angular_velocity = GVec3<T>::select(kept, a.angular_velocity, before.wa);
+    b.linear_velocity = GVec3<T>::select(kept, b.linear_velocity, before.vb);
+    b.angular_velocity = GVec3<T>::select(kept, b.angular_velocity, before.wb);
+  }
 };
 
 template <class Block, Real T = typename Block::element_type>

@@ -5,13 +5,20 @@
 //
 //   GConstraintBlocks<GContactConstraint, T> blocks;
 //   blocks.pack(colors, prepare, clear);        // colors[i]: constraint i's colour
+//   blocks.pack_grouped<5>(colors, key, prepare, clear);  // within a colour, by key(i)
 //   blocks.for_each([&](auto& c) { solve_contacts(c, ...); });  // overflow, then the blocks
 //   blocks.for_each_lane([&](auto const& c, std::size_t lane, std::uint32_t i) { ... });
 //
 // No constraint appears twice and no dynamic body appears twice in a block (the colouring's
 // rule), so a block's lanes are independent; the order of for_each is the solver's order and
 // does not depend on W, which is what keeps every width's result bitwise the same. Contacts
-// use it now; joints will be packed the same way, with their own blocks.
+// and joints (one set of blocks per kind) use it.
+//
+// Within a colour the order of constraints does not change any result (they share no body
+// the solver writes), so pack_grouped() may sort a colour by a small key: constraints with
+// the same work shape (contacts: the point count) then share blocks, and a block's kernel
+// runs only the work its lanes need. The overflow always keeps index order (it is solved
+// one constraint after another, so its order matters).
 #pragma once
 
 #include <plume/numerics.hpp>
@@ -39,32 +46,56 @@ public:
   /// constraint i; clear(block, lane) empties a padding lane.
   template <class Prepare, class Clear>
   void pack(std::span<int const> colors, Prepare&& prepare, Clear&& clear) {
-    std::array<std::vector<std::uint32_t>, color_count + 1> buckets; // [color_count]: overflow
+    pack_grouped<1>(
+        colors, [](std::uint32_t) { return 0u; }, prepare, clear);
+  }
+
+  /// pack(), with each colour ordered by key(i) (an integer below KeyCount; ascending, index
+  /// order within a key). A colour's constraints of one key fill whole blocks before the next
+  /// key's begin, so at most KeyCount - 1 blocks per colour hold two keys. The overflow keeps
+  /// index order. A key outside [0, KeyCount) is taken as KeyCount - 1.
+  template <std::size_t KeyCount, class Key, class Prepare, class Clear>
+  void pack_grouped(std::span<int const> colors, Key&& key, Prepare&& prepare, Clear&& clear) {
+    static_assert(KeyCount >= 1);
+    // Buckets colour-major, key-minor; the last one is the overflow.
+    std::vector<std::vector<std::uint32_t>>& buckets = buckets_;
+    buckets.resize(color_count * KeyCount + 1);
+    for (auto& b : buckets)
+      b.clear();
+    std::size_t const overflow_bucket = color_count * KeyCount;
     for (std::uint32_t i = 0; i < colors.size(); ++i) {
       int const c = colors[i];
-      bool const colored = c >= 0 && c < color_count;
-      buckets[colored ? std::size_t(c) : std::size_t(color_count)].push_back(i);
+      if (c < 0 || c >= color_count) {
+        buckets[overflow_bucket].push_back(i);
+        continue;
+      }
+      std::size_t k = std::size_t(key(i));
+      if (k >= KeyCount) k = KeyCount - 1;
+      buckets[std::size_t(c) * KeyCount + k].push_back(i);
     }
     std::size_t block_count = 0;
-    for (std::size_t c = 0; c <= color_count; ++c) {
-      sizes_[c] = buckets[c].size();
-      if (c < color_count) block_count += (buckets[c].size() + lanes - 1) / lanes;
+    for (std::size_t c = 0; c < color_count; ++c) {
+      std::size_t n = 0;
+      for (std::size_t k = 0; k < KeyCount; ++k)
+        n += buckets[c * KeyCount + k].size();
+      sizes_[c] = n;
+      block_count += (n + lanes - 1) / lanes;
     }
+    sizes_[color_count] = buckets[overflow_bucket].size();
     blocks_.assign(block_count, Constraint<T>{});
     block_items_.assign(block_count * lanes, empty_lane);
-    std::size_t b = 0;
-    for (std::size_t c = 0; c < color_count; ++c)
-      for (std::size_t k = 0; k < buckets[c].size(); k += lanes, ++b)
-        for (std::size_t lane = 0; lane < lanes; ++lane) {
-          if (k + lane < buckets[c].size()) {
-            std::uint32_t const i = buckets[c][k + lane];
-            prepare(blocks_[b], lane, i);
-            block_items_[b * lanes + lane] = i;
-          } else {
-            clear(blocks_[b], lane);
-          }
+    std::size_t slot = 0; // lane slots filled so far, over every block
+    for (std::size_t c = 0; c < color_count; ++c) {
+      for (std::size_t k = 0; k < KeyCount; ++k)
+        for (std::uint32_t const i : buckets[c * KeyCount + k]) {
+          prepare(blocks_[slot / lanes], slot % lanes, i);
+          block_items_[slot] = i;
+          ++slot;
         }
-    overflow_items_ = std::move(buckets[color_count]);
+      for (; slot % lanes != 0; ++slot) // the colour's last block: padding lanes
+        clear(blocks_[slot / lanes], slot % lanes);
+    }
+    overflow_items_.assign(buckets[overflow_bucket].begin(), buckets[overflow_bucket].end());
     overflow_.assign(overflow_items_.size(), Constraint<float>{});
     for (std::size_t k = 0; k < overflow_.size(); ++k)
       prepare(overflow_[k], 0, overflow_items_[k]);
@@ -101,6 +132,7 @@ private:
   std::vector<Constraint<float>> overflow_;
   std::vector<std::uint32_t> overflow_items_;
   std::array<std::size_t, color_count + 1> sizes_{};
+  std::vector<std::vector<std::uint32_t>> buckets_; ///< pack's scratch, kept for its capacity
 };
 
 } // namespace plume

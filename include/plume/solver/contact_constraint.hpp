@@ -30,8 +30,15 @@
 // Restitution, once after the substeps, for points that approached faster than the threshold
 // and carried a normal impulse: dl = -m_n (v_n + e v_n0), l = max(l + dl, 0).
 //
-// Empty points (a manifold with fewer than 4) and empty lanes have zero masses and apply
-// nothing; they need no branches.
+// Point counts: a constraint runs points 0 .. max_points-1, the most any lane prepared, so
+// a block of one-point manifolds does a quarter of the normal rows of a block of four-point
+// ones (the world packs each colour by point count: GConstraintBlocks::pack_grouped). When
+// the lanes' counts differ (min_points < max_points), a point a lane lacks is masked out
+// of that lane: its bodies and impulses keep their bits, as if the lane had stopped at its
+// own count, which is what the same manifold solved alone (T = float) does. (Unmasked, the
+// point's zero impulse would add signed zeros, which can turn a velocity of -0 into +0; no
+// random trial has shown it, the mask makes it impossible.) Padding lanes
+// (clear_contact_lane) take no part in the counts: their bodies are never written.
 #pragma once
 
 #include <plume/collision/manifold.hpp>
@@ -43,6 +50,7 @@
 #include <plume/solver/lane_storage.hpp>
 #include <plume/solver/softness.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -76,6 +84,11 @@ struct GContactConstraint : GConstraintBodyLanes<T> {
   GLaneArray<T> tangent_mass1, tangent_mass2, twist_mass;
   GLaneArray<T> twist_radius; ///< mean distance of the points from the centre (m)
   GLaneArray<T> tangent_impulse1, tangent_impulse2, twist_impulse; ///< accumulated (N s, N m s)
+  GLaneArray<T> point_count; ///< points of each lane's manifold (0-4, as T; 0 in padding)
+  /// The most and the fewest points of the lanes prepare_contact_lane() filled since the
+  /// constraint was made (padding lanes excluded); the kernels run max_points points and mask
+  /// when min_points < max_points.
+  std::uint8_t max_points = 0, min_points = 4;
 };
 
 /// The impulses of one manifold, kept from step to step for warm starting: per point along
@@ -104,6 +117,10 @@ void prepare_contact_lane(GContactConstraint<T>& c, std::size_t lane, SolverBody
                           ContactImpulses const& warm, float friction, float restitution,
                           Softness const& soft) noexcept {
   std::size_t const i = lane;
+  std::uint8_t const count = std::uint8_t(std::clamp(m.count, 0, 4));
+  c.point_count[i] = float(count);
+  c.max_points = std::max(c.max_points, count);
+  c.min_points = std::min(c.min_points, count);
   c.set_bodies(i, a, b);
   Vec3 const n = m.normal;
   std::array<Vec3, 2> const t = {tangent, n.cross(tangent)};
@@ -174,7 +191,10 @@ void clear_contact_lane(GContactConstraint<T>& c, std::size_t lane,
   none.state = identity_state;
   Manifold empty;
   empty.normal = Vec3::Z;
+  std::uint8_t const max_points = c.max_points, min_points = c.min_points;
   prepare_contact_lane(c, lane, none, none, empty, Vec3::X, {}, 0.0f, 0.0f, Softness{});
+  c.max_points = max_points; // a padding lane takes no part in the counts
+  c.min_points = min_points;
 }
 
 /// Reads back the accumulated impulses of lane `lane`.
@@ -194,8 +214,21 @@ template <Real T>
 void warm_start_contacts(GContactConstraint<T> const& c, BodyState* states) noexcept {
   auto bodies = load_constraint_bodies(c, states);
   GVec3<T> const n = c.normal.get(), t1 = c.tangent1.get(), t2 = c.tangent2.get();
-  for (auto const& p : c.points)
-    bodies.apply(n * p.normal_impulse.get(), p.anchor_a.get(), p.anchor_b.get());
+  std::size_t const np = c.max_points;
+  if (c.min_points == c.max_points) {
+    for (std::size_t k = 0; k < np; ++k) {
+      auto const& p = c.points[k];
+      bodies.apply(n * p.normal_impulse.get(), p.anchor_a.get(), p.anchor_b.get());
+    }
+  } else {
+    T const count = c.point_count.get();
+    for (std::size_t k = 0; k < np; ++k) {
+      auto const& p = c.points[k];
+      auto const before = bodies.velocities();
+      bodies.apply(n * p.normal_impulse.get(), p.anchor_a.get(), p.anchor_b.get());
+      bodies.keep_lanes(T(float(k)) < count, before);
+    }
+  }
   bodies.apply(t1 * c.tangent_impulse1.get() + t2 * c.tangent_impulse2.get(),
                c.friction_anchor_a.get(), c.friction_anchor_b.get());
   bodies.apply_angular(n * c.twist_impulse.get());
@@ -214,7 +247,7 @@ void solve_contacts(GContactConstraint<T>& c, BodyState* states, float inv_h, fl
   T const rate = c.bias_rate.get(), soft_mass = c.mass_scale.get(),
           soft_imp = c.impulse_scale.get();
   T const zero_t = zero<T>(), one_t = one<T>();
-  for (auto& p : c.points) {
+  auto const solve_point = [&](GContactConstraintPoint<T>& p) PLUME_INLINE_LAMBDA {
     GVec3<T> const ra = p.anchor_a.get(), rb = p.anchor_b.get();
     GVec3<T> const d =
         dp + (bodies.b.delta_rotation.mul_vec3(rb) - bodies.a.delta_rotation.mul_vec3(ra));
@@ -236,11 +269,29 @@ void solve_contacts(GContactConstraint<T>& c, BodyState* states, float inv_h, fl
     p.normal_impulse.set(applied);
     p.max_normal_impulse.set(max_select(p.max_normal_impulse.get(), applied));
     bodies.apply(n * (applied - old), ra, rb);
+  };
+  std::size_t const np = c.max_points;
+  if (c.min_points == c.max_points) {
+    for (std::size_t k = 0; k < np; ++k)
+      solve_point(c.points[k]);
+  } else {
+    T const count = c.point_count.get();
+    for (std::size_t k = 0; k < np; ++k) {
+      GContactConstraintPoint<T>& p = c.points[k];
+      auto const before = bodies.velocities();
+      T const impulse = p.normal_impulse.get(), max_impulse = p.max_normal_impulse.get();
+      solve_point(p);
+      mask_t<T> const present = T(float(k)) < count;
+      bodies.keep_lanes(present, before);
+      p.normal_impulse.set(plume::select(present, p.normal_impulse.get(), impulse));
+      p.max_normal_impulse.set(plume::select(present, p.max_normal_impulse.get(), max_impulse));
+    }
   }
-  // Patch friction: tangents at the centre, then twist, limited by the total normal impulse.
+  // Patch friction: tangents at the centre, then twist, limited by the total normal impulse
+  // (a point a lane lacks holds +0, which adds nothing: the sum is never -0).
   T total = zero_t;
-  for (auto const& p : c.points)
-    total = total + p.normal_impulse.get();
+  for (std::size_t k = 0; k < np; ++k)
+    total = total + c.points[k].normal_impulse.get();
   T const limit = c.friction.get() * total;
   GVec3<T> const t1 = c.tangent1.get(), t2 = c.tangent2.get();
   GVec3<T> const fa = c.friction_anchor_a.get(), fb = c.friction_anchor_b.get();
@@ -277,10 +328,13 @@ void apply_restitution(GContactConstraint<T>& c, BodyState* states, float thresh
   GVec3<T> const n = c.normal.get();
   T const e = c.restitution.get();
   T const zero_t = zero<T>();
-  for (auto& p : c.points) {
+  T const count = c.point_count.get();
+  for (std::size_t k = 0; k < c.max_points; ++k) {
+    GContactConstraintPoint<T>& p = c.points[k];
+    auto const before = bodies.velocities();
     T const v0 = p.relative_velocity.get();
-    mask_t<T> const active =
-        (v0 < T(-threshold)) & (p.max_normal_impulse.get() > zero_t) & (e > zero_t);
+    mask_t<T> const active = (v0 < T(-threshold)) & (p.max_normal_impulse.get() > zero_t) &
+                             (e > zero_t) & (T(float(k)) < count);
     GVec3<T> const ra = p.anchor_a.get(), rb = p.anchor_b.get();
     T const vn = bodies.relative_velocity(ra, rb).dot(n);
     T const old = p.normal_impulse.get();
@@ -289,6 +343,7 @@ void apply_restitution(GContactConstraint<T>& c, BodyState* states, float thresh
     p.normal_impulse.set(applied);
     p.max_normal_impulse.set(max_select(p.max_normal_impulse.get(), applied));
     bodies.apply(n * (applied - old), ra, rb);
+    bodies.keep_lanes(active, before); // lanes with nothing to restore stay bit for bit
   }
   store_constraint_bodies(c, states, bodies);
 }
