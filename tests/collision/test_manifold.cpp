@@ -11,6 +11,7 @@
 #include <numbers>
 #include <random>
 #include <set>
+#include <utility>
 #include <vector>
 
 using namespace plume;
@@ -636,4 +637,81 @@ TEST_CASE("manifold: closed-form sphere pairs at coincident centres and inside b
   CHECK(contact_manifold(Sphere{1}, at({0, -3e19f, 0}), Capsule{1, 0.2f}, Iso3{}).failed);
   CHECK(contact_manifold(Sphere{1}, at({0, 0, 0}), Sphere{1}, at({2 + 2 * cfg.prediction, 0, 0}))
             .count == 0);
+}
+
+TEST_CASE("manifold: capsules parallel within the tolerance join their points along the normal",
+          "[collision][manifold]") {
+  // B tilted about the normal's axis by up to 0.015 rad (inside face_alignment's 0.02): its
+  // ends sit across the normal from A's line, 1 m x 0.015 = 1.5 cm at most. Each point
+  // takes its radius' share of that offset and leaves its surface by no more than 1e-3 of
+  // its radius (a zero radius: it stays on the core).
+  Vec3 const x{1, 0, 0};
+  for (float tilt : {0.005f, 0.01f, 0.015f, -0.015f}) {
+    Quat const q = Quat::from_axis_angle(x, tilt);
+    for (auto [ra, rb] : {std::pair{0.0f, 1.0f}, {0.3f, 1.0f}, {1.0f, 1.0f}, {1.0f, 0.2f}}) {
+      // B beside A along x, overlapping by 0.1.
+      Iso3 const pb = at({ra + rb - 0.1f, 0.1f, 0}, q);
+      Manifold const m = contact_manifold(Capsule{1, ra}, at({0, 0, 0}), Capsule{1, rb}, pb);
+      INFO("tilt " << tilt << ", ra " << ra << ", rb " << rb);
+      check_manifold(m);
+      REQUIRE(m.count == 2);
+      for (auto const& c : m) {
+        CHECK(((c.point_b - c.point_a) - m.normal * c.separation).length() <= 1e-5f);
+        // The distance to its core (the capsule's y axis).
+        float const da = std::sqrt(c.point_a.x * c.point_a.x + c.point_a.z * c.point_a.z);
+        Vec3 const local_b = pb.inverse_transform_point(c.point_b);
+        float const db = std::sqrt(local_b.x * local_b.x + local_b.z * local_b.z);
+        CHECK(std::abs(da - ra) <= 1e-3f * ra + 2e-6f);
+        CHECK(std::abs(db - rb) <= 1e-3f * rb + 2e-6f);
+      }
+    }
+  }
+  // Longer or thinner capsules at the same tilt would leave their surfaces by more: one
+  // point. Capsules of half height 2 and radius 0.2: ends 1 cm across at 0.005 rad keep two
+  // points, 3 cm across at 0.015 rad (0.9e-3 squared, above 2e-3 x 0.4^2) one.
+  for (auto [tilt, count] : {std::pair{0.005f, 2}, {0.015f, 1}}) {
+    Manifold const m = contact_manifold(Capsule{2, 0.2f}, at({0, 0, 0}), Capsule{2, 0.2f},
+                                        at({0.35f, 0, 0}, Quat::from_axis_angle(x, tilt)));
+    INFO("tilt " << tilt);
+    check_manifold(m);
+    CHECK(m.count == count);
+  }
+  Manifold const thin = contact_manifold(Capsule{1, 0.01f}, at({0, 0, 0}), Capsule{1, 0.01f},
+                                         at({0.015f, 0, 0}, Quat::from_axis_angle(x, 0.015f)));
+  check_manifold(thin);
+  CHECK(thin.count == 1);
+  // Exactly parallel segments (radius 0) still get two points.
+  Manifold const segments =
+      contact_manifold(Capsule{1, 0.0f}, at({0, 0, 0}), Capsule{1, 0.0f}, at({0.01f, 0.5f, 0}));
+  check_manifold(segments);
+  CHECK(segments.count == 2);
+}
+
+TEST_CASE("manifold: a clipped face never keeps two points with one feature id",
+          "[collision][manifold]") {
+  // Boxes and hulls turned about the contact normal cut the incident face at the reference
+  // face's corners: a point made where the clipped polygon runs along a reference side names
+  // that side, not the incident edge the polygon left.
+  std::mt19937 rng(91);
+  std::uniform_real_distribution<float> angle(-3.2f, 3.2f), small(-0.01f, 0.01f), size(0.2f, 1.5f),
+      off(-0.8f, 0.8f);
+  ConvexHull const disc = disc_hull(7);
+  int clipped = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    Cuboid const a{Vec3{size(rng), 0.5f, size(rng)}};
+    Quat const q = Quat::from_axis_angle(Vec3{0, 1, 0}, angle(rng)) *
+                   Quat::from_axis_angle(Vec3{1, 0, 0}, small(rng));
+    Iso3 const pb = at({off(rng), 1.0f, off(rng)}, q);
+    Manifold const boxes =
+        contact_manifold(a, at({0, 0, 0}), Cuboid{Vec3{size(rng), 0.51f, size(rng)}}, pb);
+    Manifold const hull =
+        contact_manifold(a, at({0, 0, 0}), disc, at({off(rng), 0.54f, off(rng)}, q));
+    for (Manifold const* m : {&boxes, &hull}) {
+      INFO("trial " << trial);
+      REQUIRE(m->count <= 4);
+      CHECK(ids_of(*m).size() == std::size_t(m->count));
+      clipped += m->count >= 3;
+    }
+  }
+  CHECK(clipped > 1000); // the trials reach the clipping path
 }

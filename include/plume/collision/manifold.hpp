@@ -249,8 +249,10 @@ void reduce_into(candidates<S> const& c, GVec3<S> const& normal, GManifold<S>& m
 /// The bit fields of a feature id (GContactPoint::id), high to low: whether the reference
 /// face is B's, the reference face, the incident face, and the key of the point on the
 /// incident side. The key is an incident vertex or a segment end (0, 1), or, with `clipped`
-/// set, a point made by clipping: incident edge and reference side for a face against a face
-/// (clip_key), the reference side alone for a segment against a face (segment_clip_key).
+/// set, a point made by clipping: the edge cut (an incident edge, or with side_edge set a
+/// reference side: a corner of the reference face) and the reference side that cut it for a
+/// face against a face (clip_key), the reference side alone for a segment against a face
+/// (segment_clip_key).
 namespace id_bits {
 inline constexpr int ref_is_b_shift = 63; ///< bit 63: the reference face is B's
 inline constexpr int ref_face_shift = 40; ///< bits 40..62: the reference face
@@ -260,9 +262,10 @@ inline constexpr std::uint32_t inc_face_mask = 0xfffff;
 inline constexpr std::uint32_t key_mask = 0xfffff; ///< bits 0..19: the point's key
 inline constexpr std::uint32_t no_face = 0xfffff;  ///< the incident face of a segment: none
 inline constexpr std::uint32_t clipped = 0x80000;  ///< key bit 19: made by clipping
-inline constexpr int edge_shift = 8;               ///< key bits 8..17: the incident edge
+inline constexpr int edge_shift = 8;               ///< key bits 8..17: the edge cut
 inline constexpr std::uint32_t edge_mask = 0x3ff;
-inline constexpr std::uint32_t side_mask = 0xff; ///< key bits 0..7: the reference side
+inline constexpr std::uint32_t side_edge = 0x200; ///< edge bit 9: the edge cut is a reference side
+inline constexpr std::uint32_t side_mask = 0xff;  ///< key bits 0..7: the reference side
 } // namespace id_bits
 
 inline std::uint64_t feature_id(bool ref_is_b, std::uint32_t ref_face, std::uint32_t inc_face,
@@ -273,7 +276,8 @@ inline std::uint64_t feature_id(bool ref_is_b, std::uint32_t ref_face, std::uint
          (std::uint64_t(inc_face & inc_face_mask) << inc_face_shift) |
          std::uint64_t(key & key_mask);
 }
-/// The key of the point where incident edge `edge` crosses reference side `side`.
+/// The key of the point where polygon edge `edge` (an incident edge, or side_edge | a
+/// reference side) crosses reference side `side`.
 inline std::uint32_t clip_key(std::uint32_t edge, std::uint32_t side) noexcept {
   using namespace id_bits;
   return clipped | ((edge & edge_mask) << edge_shift) | (side & side_mask);
@@ -389,9 +393,11 @@ void add_plane_contact(candidates<S>& c, GVec3<S> const& p, GVec3<S> const& rn, 
 }
 
 /// A vertex of the incident polygon while it is clipped: world position, feature key, and
-/// the original incident edge it starts (edge i runs from incident vertex i to i + 1), so
-/// that a clipped point's key (incident edge, reference side) names the same features every
-/// frame.
+/// the edge of the polygon that starts at it: a piece of incident edge i (from incident
+/// vertex i to i + 1) or, after a side cut the polygon, a piece of reference side k
+/// (id_bits::side_edge | k). A clipped point's key names the edge it cut and the side that
+/// cut it: the same features every frame, and never two points of one polygon (a straight
+/// edge of a convex polygon crosses a side's plane once).
 template <ScalarReal S>
 struct clip_vertex {
   GVec3<S> p;
@@ -433,8 +439,11 @@ int clip_side(clip_vertex<S> const* in, int n, GVec3<S> const& a, GVec3<S> const
     if (dp >= S(0) && no < 64) out[no++] = p;
     if ((dp >= S(0)) != (dq >= S(0)) && no < 64) {
       S const t = dp / (dp - dq);
-      // A new point where incident edge p.edge crosses reference side k.
-      out[no++] = {p.p + (q.p - p.p) * t, clip_key(p.edge, k), p.edge};
+      // A new point where edge p.edge crosses reference side k. Leaving the side's inner
+      // half, the polygon now runs along side k to where it comes back; entering, it goes on
+      // along p.edge.
+      std::uint32_t const next = dp >= S(0) ? (id_bits::side_edge | k) : p.edge;
+      out[no++] = {p.p + (q.p - p.p) * t, clip_key(p.edge, k), next};
     }
   }
   return no;
@@ -666,8 +675,10 @@ void capsule_on_polytope(Cap const& cap, GIso3<S> const& cap_pose, Poly const& p
 
 /// Two capsules in contact (p): when the core segments are parallel within
 /// cfg.face_alignment and perpendicular to the normal, B's segment clipped to A's extent
-/// along A's axis, each end against A's line (two points); else, or when they do not
-/// overlap along the axis, p's one point.
+/// along A's axis, each end against A's line (two points, each pair joined along the normal);
+/// else, or when they do not overlap along the axis, or when the segments' offset across the
+/// normal would put the points off their surfaces by more than 1e-3 of the radii's sum,
+/// p's one point.
 template <ScalarReal S, class CA, class CB>
 void capsule_pair(CA const& a, GIso3<S> const& pose_a, CB const& b, GIso3<S> const& pose_b,
                   GPenetrationResult<S> const& p, ManifoldConfig const& cfg, GManifold<S>& m) {
@@ -690,10 +701,25 @@ void capsule_pair(CA const& a, GIso3<S> const& pose_a, CB const& b, GIso3<S> con
     S const u = span != S(0) ? (t - tb0) / span : S(0);
     GVec3<S> const pb = b0 + db * u;
     GVec3<S> const pa = a0 + ua * t;
-    S const sep = (pb - pa).dot(p.normal) - a.radius - b.radius;
+    GVec3<S> const d = pb - pa;
+    S const along = d.dot(p.normal);
+    S const sep = along - a.radius - b.radius;
     if (sep > S(cfg.prediction)) continue;
-    c.add({pa + p.normal * a.radius, pb - p.normal * b.radius, sep,
-           feature_id(false, 0, 0, std::uint32_t(e))});
+    // Segments parallel only within the tolerance are offset across the normal too (by up to
+    // their length times the tolerance's sine). The points share that offset in proportion
+    // to the radii, so point_b - point_a is separation x normal, the anchor midway does not
+    // move, and together they leave their surfaces by about |across|^2 / (2 (ra + rb)); more
+    // than 1e-3 (ra + rb) of that (thin capsules, or long ones at the tolerance's angle) and
+    // the pair is not parallel enough for two points.
+    GVec3<S> const across = d - p.normal * along;
+    S const rsum = a.radius + b.radius;
+    if (!(across.length_squared() <= S(2e-3) * rsum * rsum)) {
+      c.n = 0;
+      break;
+    }
+    S const wa = rsum > S(0) ? a.radius / rsum : S(0.5);
+    c.add({pa + p.normal * a.radius + across * wa, pb - p.normal * b.radius - across * (S(1) - wa),
+           sep, feature_id(false, 0, 0, std::uint32_t(e))});
   }
   m.normal = p.normal;
   reduce_into(c, m.normal, m);
