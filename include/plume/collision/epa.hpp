@@ -78,6 +78,15 @@ namespace detail {
 
 /// EPA's polytope: vertices of D, triangles with outward unit normals; dead faces stay in the
 /// list until it is compacted.
+///
+/// Rounding: supports on a flat part of D (a cylinder's cap, a box's face) are coplanar with
+/// faces already there. A face that such a vertex sees by less than the rounding was kept
+/// while its neighbours were replaced, and the new face beside it could come out turned
+/// inward: in the plane of the cap, its normal into D, its distance -h, the nearest face from
+/// then on (a point at a cylinder's centre got depth 0 in a quarter of random poses). So a
+/// face within `coplanar` (16 eps of D's size) of a new vertex counts as seeing it, and a
+/// new face must have the seed tetrahedron's centroid (inside D, inside every later
+/// polytope) behind it, or the growth stops and EPA reports the best face found.
 template <ScalarReal S>
 struct epa_polytope {
   static constexpr int max_vertices = 64;
@@ -93,8 +102,11 @@ struct epa_polytope {
   std::array<simplex_vertex<S>, max_vertices> vert;
   std::array<face, max_faces> faces;
   int nv = 0, nf = 0;
+  GVec3<S> inside{}; ///< the seed tetrahedron's centroid
+  S coplanar = S(0); ///< a vertex this near a face's plane (in front or behind) sees it
 
-  /// Appends the face (a, b, c); false when the list is full or the face has no area.
+  /// Appends the face (a, b, c); false when the list is full, the face has no area, or
+  /// (after the seed) it does not have `inside` strictly behind it.
   bool add_face(int a, int b, int c) {
     if (nf == max_faces) return false;
     GVec3<S> const& pa = vert[std::size_t(a)].p;
@@ -102,6 +114,7 @@ struct epa_polytope {
     S const len = n.length();
     if (!(len > S(0))) return false;
     n = n / len;
+    if (nv > 4 && !(n.dot(inside - pa) < S(0))) return false; // turned inward by rounding
     faces[std::size_t(nf++)] = face{{a, b, c}, n, n.dot(pa), true};
     return true;
   }
@@ -119,14 +132,15 @@ struct epa_polytope {
     return near;
   }
 
-  /// Kills the live faces that see p; their edges that are not shared by two of them (an
+  /// Kills the live faces that see p (p in front of the face's plane, or behind it by no more
+  /// than `coplanar`); their edges that are not shared by two of them (an
   /// edge seen twice, once per direction, is inside the removed region) form the horizon,
   /// into edges; returns its length.
   int carve(GVec3<S> const& p, horizon& edges) noexcept {
     int ne = 0;
     for (int f = 0; f < nf; ++f) {
       auto& fc = faces[std::size_t(f)];
-      if (!fc.alive || fc.n.dot(p - vert[std::size_t(fc.v[0])].p) <= S(0)) continue;
+      if (!fc.alive || fc.n.dot(p - vert[std::size_t(fc.v[0])].p) <= -coplanar) continue;
       fc.alive = false;
       for (int e = 0; e < 3; ++e) {
         int const ea = fc.v[std::size_t(e)], eb = fc.v[std::size_t((e + 1) % 3)];
@@ -244,6 +258,7 @@ std::pair<simplex_vertex<S>, S> farthest_from_line(Diff const& diff, GVec3<S> co
 template <ScalarReal S>
 bool close_tetrahedron(epa_polytope<S>& poly, GVec3<S> const& pn) {
   poly.nv = 4;
+  poly.inside = ((poly.vert[0].p + poly.vert[1].p) + (poly.vert[2].p + poly.vert[3].p)) * S(0.25);
   bool const flip = (poly.vert[3].p - poly.vert[0].p).dot(pn) > S(0);
   return flip ? poly.add_face(0, 2, 1) && poly.add_face(0, 1, 3) && poly.add_face(1, 2, 3) &&
                     poly.add_face(2, 0, 3)
@@ -289,6 +304,7 @@ epa_seed<S> initial_tetrahedron(Diff const& diff, GVec3<S> const& centre_dir,
   simplex_vertex<S> const up = diff.vertex(pn), down = diff.vertex(-pn);
   S const hu = (up.p - ext[i0].p).dot(pn), hd = (ext[i0].p - down.p).dot(pn);
   if (std::max(hu, hd) <= tiny) return seed; // D is flat
+  poly.coplanar = S(16) * std::numeric_limits<S>::epsilon() * seed.scale;
   poly.vert[0] = ext[i0], poly.vert[1] = ext[i1], poly.vert[2] = p2;
   poly.vert[3] = hu >= hd ? up : down;
   seed.built = close_tetrahedron(poly, pn);
