@@ -79,14 +79,15 @@ namespace detail {
 /// EPA's polytope: vertices of D, triangles with outward unit normals; dead faces stay in the
 /// list until it is compacted.
 ///
-/// Rounding: supports on a flat part of D (a cylinder's cap, a box's face) are coplanar with
-/// faces already there. A face that such a vertex sees by less than the rounding was kept
-/// while its neighbours were replaced, and the new face beside it could come out turned
-/// inward: in the plane of the cap, its normal into D, its distance -h, the nearest face from
-/// then on (a point at a cylinder's centre got depth 0 in a quarter of random poses). So a
-/// face within `coplanar` (16 eps of D's size) of a new vertex counts as seeing it, and a
-/// new face must have the seed tetrahedron's centroid (inside D, inside every later
-/// polytope) behind it, or the growth stops and EPA reports the best face found.
+/// Rounding: supports on a flat part of D (a cylinder's cap, a box's face) lie in the plane of
+/// faces already there. Such a face, not seen by the new vertex, stayed while its neighbours
+/// were replaced, and the new face beside it could come out a sliver or turned inward: in the
+/// cap's plane, its normal into D, its distance -h, the nearest face from then on (a point at
+/// a cylinder's centre got depth 0 in a quarter of random poses). So every new face must have
+/// the seed tetrahedron's centroid (inside D, inside every later polytope) strictly behind
+/// it; where one does not, the face across its horizon edge joins the replaced region and
+/// the horizon is taken again (at most 8 rounds, else the growth stops and EPA reports the
+/// best face found).
 template <ScalarReal S>
 struct epa_polytope {
   static constexpr int max_vertices = 64;
@@ -103,19 +104,26 @@ struct epa_polytope {
   std::array<face, max_faces> faces;
   int nv = 0, nf = 0;
   GVec3<S> inside{}; ///< the seed tetrahedron's centroid
-  S coplanar = S(0); ///< a vertex this near a face's plane (in front or behind) sees it
 
-  /// Appends the face (a, b, c); false when the list is full, the face has no area, or
-  /// (after the seed) it does not have `inside` strictly behind it.
-  bool add_face(int a, int b, int c) {
-    if (nf == max_faces) return false;
+  /// The face (a, b, c) into f: its unit normal and distance; false when it has no area or,
+  /// with `check_inside`, when `inside` is not strictly behind it (turned inward by rounding).
+  bool make_face(int a, int b, int c, bool check_inside, face& f) const noexcept {
     GVec3<S> const& pa = vert[std::size_t(a)].p;
     GVec3<S> n = (vert[std::size_t(b)].p - pa).cross(vert[std::size_t(c)].p - pa);
     S const len = n.length();
     if (!(len > S(0))) return false;
     n = n / len;
-    if (nv > 4 && !(n.dot(inside - pa) < S(0))) return false; // turned inward by rounding
-    faces[std::size_t(nf++)] = face{{a, b, c}, n, n.dot(pa), true};
+    if (check_inside && !(n.dot(inside - pa) < S(0))) return false;
+    f = face{{a, b, c}, n, n.dot(pa), true};
+    return true;
+  }
+
+  /// Appends the face (a, b, c) of the seed tetrahedron; false when it has no area.
+  bool add_face(int a, int b, int c) {
+    if (nf == max_faces) return false;
+    face f;
+    if (!make_face(a, b, c, false, f)) return false;
+    faces[std::size_t(nf++)] = f;
     return true;
   }
 
@@ -132,16 +140,13 @@ struct epa_polytope {
     return near;
   }
 
-  /// Kills the live faces that see p (p in front of the face's plane, or behind it by no more
-  /// than `coplanar`); their edges that are not shared by two of them (an
-  /// edge seen twice, once per direction, is inside the removed region) form the horizon,
-  /// into edges; returns its length.
-  int carve(GVec3<S> const& p, horizon& edges) noexcept {
+  /// The edges of the faces marked in `in` that no other marked face shares (an edge seen
+  /// twice, once per direction, is inside the region): the horizon, into edges; its length.
+  int region_horizon(std::array<char, max_faces> const& in, horizon& edges) const noexcept {
     int ne = 0;
     for (int f = 0; f < nf; ++f) {
-      auto& fc = faces[std::size_t(f)];
-      if (!fc.alive || fc.n.dot(p - vert[std::size_t(fc.v[0])].p) <= -coplanar) continue;
-      fc.alive = false;
+      if (!in[std::size_t(f)]) continue;
+      auto const& fc = faces[std::size_t(f)];
       for (int e = 0; e < 3; ++e) {
         int const ea = fc.v[std::size_t(e)], eb = fc.v[std::size_t((e + 1) % 3)];
         bool shared = false;
@@ -157,6 +162,17 @@ struct epa_polytope {
     return ne;
   }
 
+  /// The live face outside `in` with the directed edge (a, b); -1 if none.
+  int face_with_edge(int a, int b, std::array<char, max_faces> const& in) const noexcept {
+    for (int f = 0; f < nf; ++f) {
+      auto const& fc = faces[std::size_t(f)];
+      if (!fc.alive || in[std::size_t(f)]) continue;
+      for (int e = 0; e < 3; ++e)
+        if (fc.v[std::size_t(e)] == a && fc.v[std::size_t((e + 1) % 3)] == b) return f;
+    }
+    return -1;
+  }
+
   /// Drops the dead faces from the list.
   void compact() noexcept {
     int live = 0;
@@ -165,22 +181,46 @@ struct epa_polytope {
     nf = live;
   }
 
-  /// Adds vertex w: the faces that see it are replaced by a fan from the horizon to it. False
-  /// when the vertices are full, or the faces (a new face full or a sliver: the polytope is
-  /// then left as it is, to report the best face found).
+  /// Adds vertex w: the faces that see it are replaced by a fan from the horizon to it. A
+  /// face w does not see but lies almost in the plane of (a flat part of D: a cylinder's cap,
+  /// a box's face) would leave the new face beside it a sliver or turned inward; such a face
+  /// joins the replaced region and the horizon is taken again. False, with the polytope
+  /// unchanged, when the vertices or faces are full or no region gives valid faces (EPA then
+  /// reports the best face found).
   bool grow(simplex_vertex<S> const& w) noexcept {
     if (nv == max_vertices) return false;
-    int const vi = nv;
-    vert[std::size_t(nv++)] = w;
-    horizon edges;
-    int const ne = carve(w.p, edges);
-    bool grown = ne > 0;
-    for (int k = 0; k < ne && grown; ++k)
-      grown = add_face(edges[std::size_t(k)][0], edges[std::size_t(k)][1], vi);
-    if (!grown) return false;
     // Compact the face list now and then so it does not fill with dead faces.
     if (nf > max_faces - 3 * 16) compact();
-    return true;
+    int const vi = nv;
+    vert[std::size_t(vi)] = w; // not counted until the faces are in
+    std::array<char, max_faces> in{};
+    for (int f = 0; f < nf; ++f) {
+      auto const& fc = faces[std::size_t(f)];
+      in[std::size_t(f)] = fc.alive && fc.n.dot(w.p - vert[std::size_t(fc.v[0])].p) > S(0);
+    }
+    horizon edges;
+    std::array<face, max_faces> fresh;
+    for (int round = 0; round < 8; ++round) {
+      int const ne = region_horizon(in, edges);
+      if (ne == 0 || nf + ne > max_faces) return false;
+      bool ok = true;
+      for (int k = 0; k < ne; ++k) {
+        int const ea = edges[std::size_t(k)][0], eb = edges[std::size_t(k)][1];
+        if (make_face(ea, eb, vi, true, fresh[std::size_t(k)])) continue;
+        ok = false;
+        int const across = face_with_edge(eb, ea, in);
+        if (across < 0) return false;
+        in[std::size_t(across)] = 1;
+      }
+      if (!ok) continue;
+      ++nv;
+      for (int f = 0; f < nf; ++f)
+        if (in[std::size_t(f)]) faces[std::size_t(f)].alive = false;
+      for (int k = 0; k < ne; ++k)
+        faces[std::size_t(nf++)] = fresh[std::size_t(k)];
+      return true;
+    }
+    return false;
   }
 };
 
@@ -304,7 +344,6 @@ epa_seed<S> initial_tetrahedron(Diff const& diff, GVec3<S> const& centre_dir,
   simplex_vertex<S> const up = diff.vertex(pn), down = diff.vertex(-pn);
   S const hu = (up.p - ext[i0].p).dot(pn), hd = (ext[i0].p - down.p).dot(pn);
   if (std::max(hu, hd) <= tiny) return seed; // D is flat
-  poly.coplanar = S(16) * std::numeric_limits<S>::epsilon() * seed.scale;
   poly.vert[0] = ext[i0], poly.vert[1] = ext[i1], poly.vert[2] = p2;
   poly.vert[3] = hu >= hd ? up : down;
   seed.built = close_tetrahedron(poly, pn);
