@@ -225,9 +225,16 @@ void reduce_into(candidates<S> const& c, GVec3<S> const& normal, GManifold<S>& m
   }
   int i2 = -1;
   best = S(-1);
-  for (int i = 0; i < c.n; ++i) {
+  for (int i = 0; i < c.n && i1 >= 0; ++i) {
     S const a = std::abs((pos(i1) - pos(i0)).cross(pos(i) - pos(i0)).dot(normal));
     if (i != i0 && i != i1 && a > best) best = a, i2 = i;
+  }
+  // Distances or areas that are NaN (points or a normal that overflowed) pick nothing: keep
+  // what was picked.
+  if (i1 < 0 || i2 < 0) {
+    for (int i : {i0, i1})
+      if (i >= 0) m.points[std::size_t(m.count++)] = c.pts[std::size_t(i)];
+    return;
   }
   // Orient the triangle counter-clockwise around the normal, then take the point most outside
   // one of its edges (the most negative edge area).
