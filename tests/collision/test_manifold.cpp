@@ -715,3 +715,25 @@ TEST_CASE("manifold: a clipped face never keeps two points with one feature id",
   }
   CHECK(clipped > 1000); // the trials reach the clipping path
 }
+
+TEST_CASE("manifold: the 4-point reduction keeps what it picked when distances are NaN",
+          "[collision][manifold]") {
+  // Candidates whose positions overflowed to NaN: no point is farther from the deepest than
+  // -1 or has a larger area, so the picks find nothing; the reduction must not read past
+  // them (index -1 before: the sanitizer build reports it) and keeps the deepest.
+  detail::candidates<float> c;
+  float const nan = std::numeric_limits<float>::quiet_NaN();
+  for (int i = 0; i < 6; ++i) {
+    Vec3 const p = i == 2 ? Vec3{0, 0, 0} : Vec3{nan, nan, nan};
+    c.add({p, p, i == 2 ? -0.5f : -0.1f, std::uint64_t(i)});
+  }
+  Manifold m;
+  detail::reduce_into(c, Vec3::Y, m);
+  REQUIRE(m.count >= 1);
+  REQUIRE(m.count <= 2);
+  CHECK(m.points[0].id == 2u); // the deepest
+  // One finite far point: the first two picks exist, the area pick finds nothing.
+  c.pts[4].point_a = c.pts[4].point_b = Vec3{1, 0, 0};
+  detail::reduce_into(c, Vec3::Y, m);
+  CHECK(m.count == 2);
+}

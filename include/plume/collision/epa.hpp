@@ -79,15 +79,11 @@ namespace detail {
 /// EPA's polytope: vertices of D, triangles with outward unit normals; dead faces stay in the
 /// list until it is compacted.
 ///
-/// Rounding: supports on a flat part of D (a cylinder's cap, a box's face) lie in the plane of
-/// faces already there. Such a face, not seen by the new vertex, stayed while its neighbours
-/// were replaced, and the new face beside it could come out a sliver or turned inward: in the
-/// cap's plane, its normal into D, its distance -h, the nearest face from then on (a point at
-/// a cylinder's centre got depth 0 in a quarter of random poses). So every new face must have
-/// the seed tetrahedron's centroid (inside D, inside every later polytope) strictly behind
-/// it; where one does not, the face across its horizon edge joins the replaced region and
-/// the horizon is taken again (at most 8 rounds, else the growth stops and EPA reports the
-/// best face found).
+/// Invariant: every face has the seed tetrahedron's centroid (inside D, inside every later
+/// polytope) strictly behind it. Supports on a flat part of D (a cylinder's cap, a box's face)
+/// lie in the plane of faces the new vertex does not see, and the new face beside such a face
+/// can come out a sliver or turned inward (then the nearest face, with a wrong depth); that
+/// face joins the replaced region instead (grow()).
 template <ScalarReal S>
 struct epa_polytope {
   static constexpr int max_vertices = 64;
