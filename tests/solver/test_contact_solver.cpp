@@ -268,9 +268,9 @@ TEMPLATE_LIST_TEST_CASE("contact kernels: every lane equals the float kernel bit
   }
 }
 
-TEMPLATE_LIST_TEST_CASE("contact kernels: a lane with fewer points than its block keeps its "
-                        "bits (signed zeros included) as the float kernel does",
-                        "[solver][lane-exact]", plume::test::f32_wide_types) {
+PLUME_WIDE_TEST_CASE("contact kernels: a lane with fewer points than its block keeps its "
+                     "bits (signed zeros included) as the float kernel does",
+                     "[solver][lane-exact]", plume::test::f32_wide_types) {
   // Blocks whose lanes hold 1..4 points run the most points any lane has, and mask a point
   // out of the lanes that lack it. The float kernel, one manifold at a time, stops at the
   // manifold's own count: every lane must match it bit for bit, with velocities that start
