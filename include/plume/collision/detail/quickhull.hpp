@@ -32,11 +32,15 @@ struct tri {
 };
 
 /// The hull under construction: the input points in double, every triangle made so far (dead
-/// ones stay, so that indices are stable) and the tolerance.
+/// ones stay, so that indices are stable), the tolerance, and the points dropped as inside
+/// while above a candidate plane (by at most tol), which grow() checks against the finished
+/// hull.
 struct state {
   std::vector<DVec3> p;
   std::vector<tri> tris;
   double tol = 0;
+  double sees = 0; ///< the height above a triangle's plane from which a point sees it
+  std::vector<int> near;
 
   DVec3 const& point(int i) const { return p[std::size_t(i)]; }
   /// The signed distance of point i above t's plane.
@@ -56,17 +60,26 @@ struct state {
   }
 
   /// Gives each point in `pts` to the triangle (among `cands`) it is farthest outside of;
-  /// points within tol of every candidate plane are inside and dropped.
-  void assign(std::vector<int> const& pts, std::vector<int> const& cands) {
+  /// points within tol of every candidate plane are inside and dropped, and listed in `near`
+  /// when above one of them. Returns how many points were given.
+  std::size_t assign(std::vector<int> const& pts, std::vector<int> const& cands) {
+    std::size_t given = 0;
     for (int i : pts) {
       int best = -1;
-      double bd = tol;
+      double bd = tol, highest = 0;
       for (int c : cands) {
         double const d = dist(tris[std::size_t(c)], i);
+        highest = std::max(highest, d);
         if (d > bd) bd = d, best = c;
       }
-      if (best >= 0) tris[std::size_t(best)].outside.push_back(i);
+      if (best >= 0) {
+        tris[std::size_t(best)].outside.push_back(i);
+        ++given;
+      } else if (highest > 0) {
+        near.push_back(i);
+      }
     }
+    return given;
   }
 };
 
@@ -97,6 +110,11 @@ HullError load_points(std::span<GVec3<S> const> in, S tolerance, state& b) {
   double const floor =
       16.0 * double(std::numeric_limits<S>::epsilon()) * (amax.x + amax.y + amax.z);
   b.tol = std::max(floor, double(tolerance)); // (a NaN tolerance: the floor)
+  // Far below the tolerance, far above the rounding of a height computed in double (a few
+  // eps(double) x the coordinates; more for a sliver's normal): for S = double the tolerance
+  // itself.
+  double const rounding = 64.0 * std::numeric_limits<double>::epsilon() * (amax.x + amax.y + amax.z);
+  b.sees = std::min(b.tol, std::max(b.tol * 0x1p-20, rounding));
   return HullError::none;
 }
 
@@ -219,7 +237,12 @@ inline int farthest_outside(state const& b, tri const& t) {
 }
 
 /// The triangles that see the eye: a flood from triangle `from` over the neighbours whose
-/// plane the eye is more than tol above (w.visible, marked in w.seen).
+/// plane the eye is above by more than b.sees, a height far below tol: a neighbour the eye is
+/// within tol above would stay beside the new cone face across their edge, a fold that turns
+/// the wrong way, and when that face is a sliver its plane tilts enough to leave the
+/// neighbour's far vertex many tolerances above it. (A height above zero but within the
+/// rounding would let a copy of a hull vertex see the triangles at that vertex, and make
+/// triangles with a repeated corner.)
 inline void find_visible(state const& b, int from, int eye, round_lists& w) {
   w.visible.clear();
   w.stack.assign(1, from);
@@ -230,7 +253,7 @@ inline void find_visible(state const& b, int from, int eye, round_lists& w) {
     w.stack.pop_back();
     w.visible.push_back(u);
     for (int nb : b.tris[std::size_t(u)].nb)
-      if (!w.seen[std::size_t(nb)] && b.dist(b.tris[std::size_t(nb)], eye) > b.tol) {
+      if (!w.seen[std::size_t(nb)] && b.dist(b.tris[std::size_t(nb)], eye) > b.sees) {
         w.seen[std::size_t(nb)] = 1;
         w.stack.push_back(nb);
       }
@@ -296,7 +319,7 @@ inline std::vector<int> build_cone(state& b, int eye, round_lists const& w) {
 
 /// Adds the farthest outside point of some triangle until none is left. Each round removes
 /// at least one point from the outside sets, so this ends.
-inline void grow(state& b) {
+inline void grow_outside_sets(state& b) {
   round_lists w;
   for (std::size_t scan = 0; scan < b.tris.size(); ++scan) {
     if (!b.tris[scan].alive || b.tris[scan].outside.empty()) continue;
@@ -314,6 +337,27 @@ inline void grow(state& b) {
     std::vector<int> const fresh = build_cone(b, eye, w);
     b.assign(orphans, fresh);
     scan = std::size_t(-1); // restart the scan: earlier triangles may still hold points
+  }
+}
+
+/// Grows the hull until every input point is within tol of every face's plane. Outside sets
+/// hold each point above one face only: a point dropped because it was within tol above every
+/// new face of a cone may still be far above an older face (a new face that is a sliver
+/// tilts its plane, and "within tol of it" reaches far along it), so the points dropped that
+/// way (b.near) are checked against the whole hull and grown again, up to 16 rounds (one or
+/// two in practice: each round adds at least one point as a vertex).
+inline void grow(state& b) {
+  grow_outside_sets(b);
+  for (int round = 0; round < 16 && !b.near.empty(); ++round) {
+    std::vector<int> pts;
+    pts.swap(b.near);
+    std::sort(pts.begin(), pts.end());
+    pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+    std::vector<int> live;
+    for (std::size_t t = 0; t < b.tris.size(); ++t)
+      if (b.tris[t].alive) live.push_back(int(t));
+    if (b.assign(pts, live) == 0) break;
+    grow_outside_sets(b);
   }
 }
 
@@ -349,8 +393,18 @@ struct face_groups {
 inline face_groups merge_coplanar(state const& b) {
   std::size_t const nt = b.tris.size();
   face_groups g{std::vector<int>(nt, -1), {}};
-  for (std::size_t s = 0; s < nt; ++s) {
-    if (!b.tris[s].alive || g.face_of[s] >= 0) continue;
+  // Seeds in decreasing area (ties: by index): a large triangle's plane is the best fit of its
+  // region, where a sliver's normal is mostly rounding and would merge nothing.
+  std::vector<std::pair<double, std::size_t>> seeds;
+  for (std::size_t t = 0; t < nt; ++t) {
+    tri const& tt = b.tris[t];
+    if (!tt.alive) continue;
+    DVec3 const e1 = b.point(tt.v[1]) - b.point(tt.v[0]), e2 = b.point(tt.v[2]) - b.point(tt.v[0]);
+    seeds.push_back({-e1.cross(e2).length(), t});
+  }
+  std::sort(seeds.begin(), seeds.end());
+  for (auto const& [neg_area, s] : seeds) {
+    if (g.face_of[s] >= 0) continue;
     int const f = int(g.groups.size());
     g.groups.emplace_back();
     std::vector<int> stack{int(s)};
@@ -524,8 +578,8 @@ hull_data<S> polygon_hull(state const& b) {
   std::sort(all.begin(), all.end());
   all.erase(std::unique(all.begin(), all.end()), all.end());
   // Merged faces that are not sound go back to their triangles, until every merged face is;
-  // at worst every face is a triangle (a facet of the triangulation as quickhull left it,
-  // not tested again: one with a vertex above it is the open finding in docs/fuzzing.md).
+  // at worst every face is a triangle of the triangulation, which grow() leaves convex (no
+  // vertex above a triangle's plane beyond the rounding) with every point within tol below.
   for (;;) {
     std::vector<bool> whole;
     loops = boundary_loops(b, groups, whole);
