@@ -737,3 +737,34 @@ TEST_CASE("manifold: the 4-point reduction keeps what it picked when distances a
   detail::reduce_into(c, Vec3::Y, m);
   CHECK(m.count == 2);
 }
+
+TEST_CASE("manifold: a clip that misses the pair's depth gives the deepest point instead",
+          "[collision][manifold][fuzz]") {
+  // Fuzz finding contact_manifold regress-clip-misses-depth: a thin triangle stands edge-on
+  // (about 60 degrees) into a hull's face. That face is aligned with EPA's normal and became
+  // the reference; the triangle's part inside its sides reached 0.087 deep, while the pair's
+  // depth is 0.372. The manifold now keeps the pair's deepest point there.
+  Triangle const tri{{-0x1.4ffb5p+0f, -0x1.4f4f5p+0f, -0x1.4bff4cp+0f},
+                     {-0x1.4f4f5p+0f, -0x1.fc03fcp+0f, -0x1.4f235p+0f},
+                     {0x1.2de32cp+0f, 0x1.2f2f3p+0f, 0x1.2f2f3p+0f}};
+  std::vector<Vec3> const pts{{0x1.c6c6c8p-1f, 0x1.a2c6ap-1f, 0x1.c366cp-1f},
+                              {-0x1.3ced4p-3f, -0x1.6f907p-1f, -0x1.8p-16f},
+                              {-0x1.8p+0f, -0x1.f6f6f6p-1f, -0x1.a2f6a2p-1f},
+                              {-0x1.09cf08p-2f, 0x1.7d86fcp+0f, 0x1.8p+0f},
+                              {-0x1.f77af8p-1f, -0x1.8p+0f, -0x1.8p+0f},
+                              {-0x1.8p+0f, -0x1.f7fef8p-1f, -0x1.09cf08p-2f},
+                              {-0x1.13ff94p+0f, -0x1.7abb78p-2f, -0x1.8p+0f},
+                              {-0x1.f6f6f6p-1f, -0x1.f6f6f6p-1f, -0x1.7d02fep+0f},
+                              {-0x1.8p+0f, -0x1.8p+0f, -0x1.8p+0f}};
+  auto const hull = ConvexHull::build(pts);
+  REQUIRE(hull);
+  Iso3 const pose{Quat{-0.5f, -0.5f, -0.5f, -0.5f}, Vec3{-4, -4, -4}};
+  PenetrationResult const p = penetration(tri, pose, hull.hull, pose);
+  REQUIRE(p.status != PenetrationStatus::failed);
+  CHECK(p.depth == Approx(0.3723).margin(1e-3));
+  Manifold const m = contact_manifold(tri, pose, hull.hull, pose);
+  REQUIRE(m.count > 0);
+  CHECK(m.min_separation() <= -p.depth + 1e-4f);
+  for (auto const& c : m)
+    CHECK(((c.point_b - c.point_a) - m.normal * c.separation).length() < 1e-4f);
+}

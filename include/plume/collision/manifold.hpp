@@ -621,10 +621,28 @@ bool box_pair(GCuboid<S> const& a, GIso3<S> const& pose_a, GCuboid<S> const& b,
   return false;
 }
 
+/// Whether a clipped manifold misses the pair's depth (p): its deepest point shallower than
+/// p's by more than the reference face (face rf of fs) tilted by the largest angle
+/// face_alignment allows can explain (sin of it x the face's diameter), plus 1e-3 of the
+/// diameter. The incident face may stand steeply to the reference one (a thin triangle edge-on
+/// into a hull face), and then its part inside the reference face's sides is not its deepest.
+template <ScalarReal S>
+bool clip_misses_depth(face_set<S> const& fs, std::uint32_t rf, GPenetrationResult<S> const& p,
+                       ManifoldConfig const& cfg, GManifold<S> const& m) noexcept {
+  if (m.count == 0) return false;
+  auto const v = fs.face(rf);
+  S diameter = S(0);
+  for (std::size_t i = 0; i < v.size(); ++i)
+    for (std::size_t j = i + 1; j < v.size(); ++j)
+      diameter = std::max(diameter, (fs.verts[v[i]] - fs.verts[v[j]]).length());
+  S const allowance = (sine_of(S(cfg.face_alignment)) + S(1e-3)) * diameter;
+  return m.min_separation() > -p.depth + allowance;
+}
+
 /// Two polytopes in contact (p): the face of either whose normal is within cfg.face_alignment
 /// of p's is the reference (A's unless B's is better aligned by 1e-5), the other shape's most
 /// anti-parallel face is clipped against it; else, or when the clip loses every point (a
-/// sliver), p's one point.
+/// sliver) or misses p's depth (clip_misses_depth), p's one point.
 template <ScalarReal S, class A, class B>
 void polytope_pair(A const& a, GIso3<S> const& pose_a, B const& b, GIso3<S> const& pose_b,
                    GPenetrationResult<S> const& p, ManifoldConfig const& cfg, GManifold<S>& m) {
@@ -638,16 +656,22 @@ void polytope_pair(A const& a, GIso3<S> const& pose_a, B const& b, GIso3<S> cons
         return 0;
       }
       bool const ref_is_b = align_b > align_a + S(1e-5);
+      bool missed;
       if (!ref_is_b) {
         GVec3<S> const rn = pose_a.transform_vector(fa.faces[ia].normal);
         auto const inc = best_face(fb, pose_b, -rn).first;
         clip_faces(fa, pose_a, ia, fb, pose_b, inc, false, S(0), S(0), cfg, m);
+        missed = clip_misses_depth(fa, ia, p, cfg, m);
       } else {
         GVec3<S> const rn = pose_b.transform_vector(fb.faces[ib].normal);
         auto const inc = best_face(fa, pose_a, -rn).first;
         clip_faces(fb, pose_b, ib, fa, pose_a, inc, true, S(0), S(0), cfg, m);
+        missed = clip_misses_depth(fb, ib, p, cfg, m);
       }
-      if (m.count == 0) single_point(p, m, cfg);
+      if (m.count == 0 || missed) {
+        m = GManifold<S>{};
+        single_point(p, m, cfg);
+      }
       return 0;
     });
   });
