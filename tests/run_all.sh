@@ -8,6 +8,7 @@
 #    avx512 variants - tests of an instruction set this CPU lacks are reported as skipped;
 # 3. an AddressSanitizer + UndefinedBehaviorSanitizer build (avx2), tests only;
 #    a clang build (avx2), tests only;
+#    the fuzz targets (clang, libFuzzer, sanitizers), each for a fixed number of executions;
 # 4. the cross-build determinism check: every deterministic build that ran (g++ and clang)
 #    must print the same golden hashes (each also compares with tests/determinism/golden.txt);
 # 5. every benchmark binary of the scalar and the widest variant, once, with a tiny time budget;
@@ -43,6 +44,14 @@ configure_build() { # <preset> [cmake args...]: build/ci-<preset>, warnings are 
 }
 
 mkdir -p build
+# The benchmarks run in the scalar build and the widest build this CPU runs (stage 5); the
+# variants between would compile the same benchmark sources and never run them, so they
+# leave them out of their build. A variant this CPU cannot run builds them: its only check
+# is that everything compiles.
+widest=scalar
+for v in "${variants[@]}"; do
+  plume_cpu_runs "$v" && widest=$v
+done
 for v in "${variants[@]}"; do
   step "variant $v: build"
   # Each wide variant tests its own width (tests/common/types.hpp): every width is tested in
@@ -50,7 +59,10 @@ for v in "${variants[@]}"; do
   # The examples (docs/examples) are built and run once, in the scalar variant.
   examples=OFF
   [ "$v" = scalar ] && examples=ON
-  if ! configure_build "$v" -DPLUME_TEST_TYPES=native -DPLUME_BUILD_EXAMPLES=$examples; then
+  skip_bench=OFF
+  [ "$v" != scalar ] && [ "$v" != "$widest" ] && plume_cpu_runs "$v" && skip_bench=ON
+  if ! configure_build "$v" -DPLUME_TEST_TYPES=native -DPLUME_BUILD_EXAMPLES=$examples \
+    -DPLUME_BENCH_EXCLUDE_FROM_ALL=$skip_bench; then
     failed+=("$v build")
     continue
   fi
@@ -83,6 +95,17 @@ else
   failed+=("clang build")
 fi
 
+step "fuzzing: every target, a fixed number of executions"
+# Each libFuzzer target (tests/fuzz, docs/fuzzing.md) from its committed corpus with a fixed
+# random seed, so the same code fuzzes the same inputs on every run; a broken property fails
+# CI with the input in build/fuzz/artifacts/. tools/fuzz.sh skips (status 0) on a CPU without
+# AVX2, the fuzz build's instruction set.
+if command -v clang++ >/dev/null; then
+  bash tools/fuzz.sh --runs "${PLUME_CI_FUZZ_RUNS:-10000}" || failed+=("fuzzing")
+else
+  failed+=("fuzzing (no clang++)")
+fi
+
 step "cross-build determinism"
 ref=""
 for v in "${variants[@]}" clang-avx2; do
@@ -104,13 +127,9 @@ for v in "${variants[@]}" clang-avx2; do
 done
 
 step "benchmarks, once each"
-# The scalar build and the widest build this CPU runs: every benchmark binary once. The
-# variants between compile the same benchmark sources (and build above), so running them
-# adds time and no code path.
-widest=scalar
-for v in "${variants[@]}"; do
-  plume_cpu_runs "$v" && [ -d "build/ci-$v/bench" ] && widest=$v
-done
+# The scalar build and the widest build this CPU runs (found above): every benchmark binary
+# once. The variants between compile the same benchmark sources, so running them would add
+# time and no code path.
 bench_variants=(scalar)
 [ "$widest" != scalar ] && bench_variants+=("$widest")
 for v in "${bench_variants[@]}"; do

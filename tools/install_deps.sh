@@ -5,7 +5,7 @@
 set -euo pipefail
 
 packages=(
-  cmake ninja-build g++ clang
+  cmake ninja-build g++ clang libclang-rt-14-dev
   libxsimd-dev libeigen3-dev catch2 libbenchmark-dev
   libsleef-dev libglm-dev libembree-dev libmpfr-dev libtinyobjloader-dev
   python3 python3-matplotlib
