@@ -56,6 +56,56 @@ void check_hull(ConvexHull const& h, std::span<Vec3 const> input) {
   }
   CHECK(halfedges == 2 * E);
 }
+
+/// Hulls of thin slabs as the fuzz target draws them: points of a plane z = a x + b y + c (a,
+/// b, c multiples of 1/8, x and y of 1/1024, so z is exact), many repeated, moved off the
+/// plane by up to 4 default tolerances of S. A hull, when there is one, leaves every point
+/// within the tolerance below each face's plane (the faces' planes are fitted through several
+/// vertices, so a little more is allowed: check_hull's 4 tolerances). Returns the number of
+/// hulls built and the worst height of a point above a face, in tolerances.
+struct slab_result {
+  int hulls = 0;
+  double worst = 0;
+  int worst_trial = -1;
+};
+template <class S>
+slab_result thin_slabs(int trials) {
+  using V = GVec3<S>;
+  rng r(29);
+  slab_result out;
+  for (int trial = 0; trial < trials; ++trial) {
+    auto const eighth = [&] { return S(std::floor(r.uniform(-8, 9))) / 8; };
+    S const a = eighth(), b = eighth(), c = eighth();
+    int const distinct = 3 + trial % 9, n = distinct + trial % 23;
+    std::vector<V> grid;
+    for (int i = 0; i < distinct; ++i) {
+      S const x = S(std::floor(r.uniform(-1024, 1025))) / 1024,
+              y = S(std::floor(r.uniform(-1024, 1025))) / 1024;
+      grid.push_back({x, y, a * x + b * y + c});
+    }
+    for (int i = distinct; i < n; ++i)
+      grid.push_back(grid[std::size_t(r.uniform(0, distinct))]);
+    double sx = 0, sy = 0, sz = 0;
+    for (V const& g : grid) {
+      sx = std::max(sx, double(std::abs(g.x)));
+      sy = std::max(sy, double(std::abs(g.y)));
+      sz = std::max(sz, double(std::abs(g.z)));
+    }
+    double const tol = 16.0 * double(std::numeric_limits<S>::epsilon()) * (sx + sy + sz);
+    std::vector<V> pts;
+    for (V const& g : grid)
+      pts.push_back({g.x, g.y, g.z + S(r.uniform(-4, 4) * tol)});
+    auto const built = GConvexHull<S>::build(pts);
+    if (!built) continue;
+    ++out.hulls;
+    for (auto const& f : built.hull.faces())
+      for (V const& p : pts) {
+        double const high = (double(f.normal.dot(p)) - double(f.offset)) / tol;
+        if (high > out.worst) out.worst = high, out.worst_trial = trial;
+      }
+  }
+  return out;
+}
 } // namespace
 
 TEST_CASE("hull of a box with duplicates, interior, face and edge points", "[collision][hull]") {
@@ -441,58 +491,33 @@ TEST_CASE("hull: no point is left above a face, beside sliver faces and in thin 
     check_hull(built.hull, *pts);
   }
 
-  // Thin slabs as the fuzz target draws them: points of a plane z = a x + b y + c (a, b, c
-  // multiples of 1/8, x and y of 1/1024, so z is exact), many repeated, moved off the plane
-  // by up to 4 default tolerances. A hull, when there is one, leaves every point within the
-  // tolerance below each face's plane (the faces' planes are fitted through several vertices,
-  // so a little more is allowed: check_hull's 4 tolerances). Before the fixes 191 of 3,778
-  // hulls left a point outside, up to 215,000 tolerances.
-  rng r(29);
-  int hulls = 0;
-  double worst = 0;
-  for (int trial = 0; trial < 4000; ++trial) {
-    auto const eighth = [&] { return float(std::floor(r.uniform(-8, 9))) / 8; };
-    float const a = eighth(), b = eighth(), c = eighth();
-    int const distinct = 3 + trial % 9, n = distinct + trial % 23;
-    std::vector<Vec3> grid;
-    for (int i = 0; i < distinct; ++i) {
-      float const x = float(std::floor(r.uniform(-1024, 1025))) / 1024,
-                  y = float(std::floor(r.uniform(-1024, 1025))) / 1024;
-      grid.push_back({x, y, a * x + b * y + c});
-    }
-    for (int i = distinct; i < n; ++i)
-      grid.push_back(grid[std::size_t(r.uniform(0, distinct))]);
-    double sx = 0, sy = 0, sz = 0;
-    for (Vec3 const& g : grid) {
-      sx = std::max(sx, double(std::abs(g.x)));
-      sy = std::max(sy, double(std::abs(g.y)));
-      sz = std::max(sz, double(std::abs(g.z)));
-    }
-    double const tol = 16.0 * double(std::numeric_limits<float>::epsilon()) * (sx + sy + sz);
-    std::vector<Vec3> pts;
-    for (Vec3 const& g : grid)
-      pts.push_back({g.x, g.y, g.z + float(r.uniform(-4, 4) * tol)});
-    auto const built = ConvexHull::build(pts);
-    if (!built) continue;
-    ++hulls;
-    double high = 0;
-    for (auto const& f : built.hull.faces())
-      for (Vec3 const& p : pts)
-        high = std::max(high, (double(f.normal.dot(p)) - double(f.offset)) / tol);
-    worst = std::max(worst, high);
-    if (high > 4) {
-      INFO("trial " << trial);
-      check_hull(built.hull, pts);
-    }
-  }
-  INFO("hulls " << hulls << ", worst point above a face " << worst << " tolerances");
-  CHECK(hulls > 3000);
-  CHECK(worst <= 4);
+  // Thin slabs as the fuzz target draws them (thin_slabs above). Before the fixes 206 of
+  // 3,963 hulls left a point outside, up to 100,754 tolerances.
+  auto const f = thin_slabs<float>(4000);
+  INFO("hulls " << f.hulls << ", worst point above a face " << f.worst << " tolerances, in trial "
+                << f.worst_trial);
+  CHECK(f.hulls > 3000);
+  CHECK(f.worst <= 4);
+}
+
+TEST_CASE("hull (open bug): double hulls of slabs a few tolerances thick leave points outside",
+          "[collision][hull][!shouldfail]") {
+  // The same slabs in double: the default tolerance, 16 eps(double), is at the rounding of the
+  // build, which computes in double too, so nothing below decides heights that small; the
+  // side faces come out turned (points 2 m outside 1 m slabs in 1,790 of 2,112 hulls, as
+  // before this session's fixes). Raising the tolerance's floor to 1024 eps(double) did not
+  // help (docs/fuzzing.md, open). This test reports the bug until it is fixed; it fails, and
+  // so must be updated, the day double slabs hold.
+  auto const d = thin_slabs<double>(4000);
+  INFO("hulls " << d.hulls << ", worst point above a face " << d.worst << " tolerances, in trial "
+                << d.worst_trial);
+  CHECK(d.worst <= 4);
 }
 
 TEST_CASE("hull: a face's triangles merge from the largest one", "[collision][hull]") {
-  // Nine points within the tolerance (4.9e-6) of the plane y = 0 and one apex far below: a
-  // hexagon on top and six triangles (the golden battery's 87th hull). Triangles the new
+  // Nine points within the tolerance (4.9e-6) of the plane y = 0 and five below it, one an
+  // apex 0.83 down that the other four lie inside: a hexagon on top and six triangles (the
+  // golden battery's 87th hull). Triangles the new
   // point sees by any height above the rounding are replaced, so the top is triangulated with
   // slivers whose normals are mostly rounding; merging from a sliver's plane left the top as
   // three faces.

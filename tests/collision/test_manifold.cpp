@@ -762,6 +762,11 @@ TEST_CASE("manifold: a clip that misses the pair's depth gives the deepest point
   PenetrationResult const p = penetration(tri, pose, hull.hull, pose);
   REQUIRE(p.status != PenetrationStatus::failed);
   CHECK(p.depth == Approx(0.3723).margin(1e-3));
+  // The depth itself, without EPA: B moved by it (plus or minus 1 cm) along the normal
+  // just separates the shapes (GJK's distance, not the manifold under test).
+  auto const moved = [&](float d) { return Iso3{pose.rotation, pose.translation + p.normal * d}; };
+  CHECK(closest_points(tri, pose, hull.hull, moved(p.depth + 0.01f)).distance > 0.005f);
+  CHECK(closest_points(tri, pose, hull.hull, moved(p.depth - 0.01f)).distance <= 0.0f);
   Manifold const m = contact_manifold(tri, pose, hull.hull, pose);
   REQUIRE(m.count > 0);
   CHECK(m.min_separation() <= -p.depth + 1e-4f);

@@ -61,7 +61,10 @@ struct state {
 
   /// Gives each point in `pts` to the triangle (among `cands`) it is farthest outside of;
   /// points within tol of every candidate plane are inside and dropped, and listed in `near`
-  /// when above one of them. Returns how many points were given.
+  /// when above one of them by more than the rounding (`sees`: a copy of a hull vertex is
+  /// not, and would make grow()'s re-check cost points x faces). A point below every new face
+  /// of a cone is inside the cone over the replaced triangles, so inside the hull. Returns
+  /// how many points were given.
   std::size_t assign(std::vector<int> const& pts, std::vector<int> const& cands) {
     std::size_t given = 0;
     for (int i : pts) {
@@ -75,7 +78,7 @@ struct state {
       if (best >= 0) {
         tris[std::size_t(best)].outside.push_back(i);
         ++given;
-      } else if (highest > 0) {
+      } else if (highest > sees) {
         near.push_back(i);
       }
     }
@@ -111,9 +114,10 @@ HullError load_points(std::span<GVec3<S> const> in, S tolerance, state& b) {
       16.0 * double(std::numeric_limits<S>::epsilon()) * (amax.x + amax.y + amax.z);
   b.tol = std::max(floor, double(tolerance)); // (a NaN tolerance: the floor)
   // Far below the tolerance, far above the rounding of a height computed in double (a few
-  // eps(double) x the coordinates; more for a sliver's normal): for S = double the tolerance
-  // itself.
-  double const rounding = 64.0 * std::numeric_limits<double>::epsilon() * (amax.x + amax.y + amax.z);
+  // eps(double) x the coordinates; more for a sliver's normal). With S = double and the
+  // default tolerance, that rounding is above the tolerance: the tolerance itself.
+  double const rounding =
+      64.0 * std::numeric_limits<double>::epsilon() * (amax.x + amax.y + amax.z);
   b.sees = std::min(b.tol, std::max(b.tol * 0x1p-20, rounding));
   return HullError::none;
 }
@@ -326,10 +330,11 @@ inline void grow_outside_sets(state& b) {
     int const eye = farthest_outside(b, b.tris[scan]);
     find_visible(b, int(scan), eye, w);
     if (!find_horizon(b, w)) {
-      // Rounding made the visible region not a disc: drop the eye (it is within a hair of
-      // the hull) and go on.
+      // Rounding made the visible region not a disc: set the eye aside for grow()'s re-check
+      // against the finished hull, and go on.
       auto& o = b.tris[scan].outside;
       o.erase(std::find(o.begin(), o.end(), eye));
+      b.near.push_back(eye);
       --scan;
       continue;
     }
@@ -344,8 +349,10 @@ inline void grow_outside_sets(state& b) {
 /// hold each point above one face only: a point dropped because it was within tol above every
 /// new face of a cone may still be far above an older face (a new face that is a sliver
 /// tilts its plane, and "within tol of it" reaches far along it), so the points dropped that
-/// way (b.near) are checked against the whole hull and grown again, up to 16 rounds (one or
-/// two in practice: each round adds at least one point as a vertex).
+/// way, and eyes set aside (b.near), are checked against the whole hull and grown again. A
+/// point is given to a face at most once per round and the rounds stop when none is given;
+/// they are capped at 16 (one or two in practice) because an eye set aside each time would
+/// come back every round.
 inline void grow(state& b) {
   grow_outside_sets(b);
   for (int round = 0; round < 16 && !b.near.empty(); ++round) {
