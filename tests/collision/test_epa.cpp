@@ -346,3 +346,27 @@ TEST_CASE("penetration: a point deep in a cylinder gets its depth (coplanar supp
   }
   CHECK(worst >= 0.9);
 }
+
+TEST_CASE("penetration: a point on a segment along the centres' line gets a normal across it",
+          "[collision][epa][fuzz]") {
+  // Fuzz finding penetration regress-segment-normal-along-axis: a cylinder of radius 0 (a
+  // segment 3.5 long) and a cuboid of zero extents (a point on it, 4 mm from its centre,
+  // along its axis). The difference is a segment and the normal reported is the centres'
+  // direction without its part along the segment; that part was all of it, so what was left
+  // was rounding, and the normal came out along the segment: depth 0 with an overlap of 1.75
+  // along the normal. Any direction across the segment is right (depth 0).
+  Cylinder const seg{0x1.bfffcp+0f, 0.0f};
+  Cuboid const point{Vec3{0, 0, 0}};
+  Iso3 const pa{Quat{-0.5f, -0.5f, -0.5f, -0.5f}, Vec3{-4, -4, -0x1.ff7cp+1f}};
+  Iso3 const pb{Quat{-0x1.fea68ap-2f, -0x1.00397ap-1f, -0x1.00397ap-1f, -0x1.00397ap-1f},
+                Vec3{-4, -4, -4}};
+  PenetrationResult const r = penetration(seg, pa, point, pb);
+  REQUIRE(r.status != PenetrationStatus::failed);
+  CHECK(std::abs(r.depth) < 1e-5f);
+  Vec3 const axis = pa.transform_vector(Vec3::Y); // the cylinder's axis
+  INFO("normal " << r.normal.x << " " << r.normal.y << " " << r.normal.z);
+  CHECK(std::abs(r.normal.dot(axis)) < 1e-3f);
+  // Moving the point off by 1 cm along the normal separates them.
+  Iso3 const out{pb.rotation, pb.translation + r.normal * 0.01f};
+  CHECK(closest_points(seg, pa, point, out).distance > 0.005f);
+}

@@ -324,8 +324,13 @@ epa_seed<S> initial_tetrahedron(Diff const& diff, GVec3<S> const& centre_dir,
   auto const [p2, dist] = farthest_from_line(diff, ext[i0].p, line, u);
   if (dist <= tiny) { // D is a segment
     GVec3<S> const lu = line.normalize();
-    GVec3<S> n = centre_dir - lu * centre_dir.dot(lu);
-    seed.flat_normal = n.length_squared() > S(0) ? n.normalize() : u;
+    GVec3<S> const n = centre_dir - lu * centre_dir.dot(lu);
+    // With centre_dir along the segment what the rejection leaves is rounding, along the
+    // segment as much as across it (lu is unit only to the rounding): a normal from it could
+    // lie along the segment, reporting depth 0 where the overlap along it is the segment's
+    // length. Below 64 eps of centre_dir, any perpendicular; above, rejected once more.
+    S const noise = S(64) * std::numeric_limits<S>::epsilon() * centre_dir.length();
+    seed.flat_normal = n.length() > noise ? (n - lu * n.dot(lu)).normalize() : u;
     return seed;
   }
   // The cross product of D's extents taken at scale 1 (a power of two near the line's largest
