@@ -428,6 +428,23 @@ std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly,
       l = lg;
     }
   }
+  if (!inside(l)) {
+    // No face of that plane holds the projection (an approximate answer: EPA stopped on a
+    // face the origin does not project into): negative weights would extrapolate the points
+    // off the shapes, so they are dropped and the rest renormalised, which keeps each point a
+    // convex combination of its shape's support points, on the shape.
+    S sum = S(0);
+    for (S& w : l) {
+      w = w > S(0) ? w : S(0); // (NaN: 0)
+      sum += w;
+    }
+    if (sum > S(0)) {
+      for (S& w : l)
+        w = w / sum;
+    } else {
+      l = {S(1), S(0), S(0)};
+    }
+  }
   auto const& v0 = poly.vert[std::size_t(f.v[0])];
   auto const& v1 = poly.vert[std::size_t(f.v[1])];
   auto const& v2 = poly.vert[std::size_t(f.v[2])];
