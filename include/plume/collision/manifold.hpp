@@ -629,7 +629,9 @@ bool box_pair(GCuboid<S> const& a, GIso3<S> const& pose_a, GCuboid<S> const& b,
 template <ScalarReal S>
 bool clip_misses_depth(face_set<S> const& fs, std::uint32_t rf, GPenetrationResult<S> const& p,
                        ManifoldConfig const& cfg, GManifold<S> const& m) noexcept {
-  if (m.count == 0) return false;
+  // The diameter (pairs of vertices: up to 2,016 for a 64-gon) only when the clip is shallower
+  // at all, which a resting contact is not.
+  if (m.count == 0 || !(m.min_separation() > -p.depth)) return false;
   auto const v = fs.face(rf);
   S diameter = S(0);
   for (std::size_t i = 0; i < v.size(); ++i)
