@@ -534,6 +534,41 @@ TEST_CASE("GJK ray casts honour a negative max_toi like the closed forms",
   }
 }
 
+TEST_CASE("a GJK cast whose time of impact overflows float misses", "[collision][gjk][cast]") {
+  // Found by the ray_cast fuzz target: a ray 1.75e18 away along a direction of length 1.4e-35
+  // reaches a point cylinder at t = 1.2e53; the advance overflowed to +inf, which max_toi =
+  // +inf let through, and the cast reported a hit at infinity.
+  float const inf = std::numeric_limits<float>::infinity();
+  Cylinder const point{0, 0};
+  Iso3 const pose = Iso3::from_translation({0, -4, 0.01f});
+  Ray3 const slow{{-1.75e18f, 1e-4f, 0}, {1.4e-35f, 0, 2}};
+  for (bool solid : {true, false}) {
+    INFO("solid " << solid);
+    auto const h = ray_cast_gjk(point, pose, slow, inf, solid);
+    CHECK(!h.hit);
+    CHECK(h.toi == inf);
+  }
+  // A ray passing 1e18 from a box, across the offset but for the box's 0.01 along it: the
+  // first advance jumped to x = 1e38, where float's rounding floor (16 eps |x|) exceeds the
+  // true gap, and the cast hit there.
+  ConvexHull const box = box_hull({1, 1, 1});
+  Iso3 const nudged = Iso3::from_translation({0, 0, 0.01f});
+  for (float speed : {0.0f, 1e-30f}) {
+    INFO("speed " << speed);
+    auto const h = ray_cast_gjk(box, nudged, Ray3{{-1e18f, 0, 0}, {speed, 0, 1}}, inf);
+    CHECK(!h.hit);
+    ShapeCastConfig cfg;
+    cfg.max_toi = inf;
+    auto const sc = shape_cast(Sphere{0.5f}, Iso3::from_translation({-1e18f, 0, 0}),
+                               Vec3{speed, 0, 1}, box, nudged, cfg);
+    CHECK(!sc.hit);
+  }
+  // A slow cast whose time stays in range still hits.
+  auto const near = ray_cast_gjk(box, Iso3{}, Ray3{{-5, 0, 0}, {1e-30f, 0, 0}}, inf);
+  CHECK(near.hit);
+  CHECK(near.toi == Approx(4e30f).epsilon(1e-4));
+}
+
 TEST_CASE("casts moving parallel to a face, outside it, miss", "[collision][gjk][cast]") {
   // The separating direction is then perpendicular to the motion (v . r = 0 exactly): the
   // motion never closes the gap, whatever the distance travelled.

@@ -235,13 +235,18 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
     mask_t<T> outside = vy > radius * vl;
     mask_t<T> receding = outside & (vr >= zero);
     T t_new = out.toi - (vy - radius * vl) / plume::select(outside & (vr < zero), vr, -one<T>());
-    mask_t<T> too_far = outside & (!receding) & (t_new > max_toi);
+    // An advance to where |x|^2 overflows (beyond about 1e19, or a time beyond float's largest
+    // when the motion is tiny) passes every point float can query, so D, if it is ever
+    // reached, is reached there: a miss, whatever max_toi (+inf included).
+    GVec3<T> x_new = origin + r * t_new;
+    mask_t<T> beyond = !(x_new.dot(x_new) < infinity<T>());
+    mask_t<T> too_far = outside & (!receding) & ((t_new > max_toi) | beyond);
     mask_t<T> miss = active & (receding | too_far) & (!bad);
     mask_t<T> advance = active & outside & (!receding) & (!too_far) & (!bad);
     // Advance: x moves to the (inflated) support plane; the simplex points stay (they are
     // points of D), only their offsets from x change.
     out.toi = plume::select(advance, t_new, out.toi);
-    x = GVec3<T>::select(advance, origin + r * out.toi, x);
+    x = GVec3<T>::select(advance, x_new, x);
     out.n = GVec3<T>::select(advance, v, out.n);
     d2_ref = plume::select(advance, infinity<T>(), d2_ref);
     advanced_ever = advanced_ever | advance;
@@ -432,7 +437,8 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
 
 /// The first time of impact of shape a (at pose_a, moving by t * motion_a for t in
 /// [0, cfg.max_toi]; B is still: pass the relative motion) with b (at pose_b): the smallest t
-/// where their distance is at most cfg.target_distance.
+/// where their distance is at most cfg.target_distance. A contact only a translation beyond
+/// about 1e19 could reach (cfg.max_toi = +inf with a tiny motion) is a miss.
 template <Real T, ConvexShape<T> A, ConvexShape<T> B>
 PLUME_FLATTEN GShapeCastHit<T>
 shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const& b,
@@ -495,6 +501,8 @@ shape_cast(A const& a, GIso3<T> const& pose_a, GVec3<T> const& motion_a, B const
 /// hollow casts from inside hit where the ray leaves the shape. Lanes that hit the iteration
 /// cap report their conservative toi as a hit (never later than the true one); a hollow
 /// cast's exit search that hits the cap reports no hit, since no exit time is a safe bound.
+/// A hit that only a ray point beyond about 1e19 could reach (a tiny direction far from the
+/// shape, or a toi that would overflow float) is a miss.
 /// feature is -1 (a hull's face can be found from the normal with GConvexHull::support_face).
 template <Real T, ConvexShape<T> Shape>
 PLUME_FLATTEN GRayHit<T> ray_cast_gjk(Shape const& shape, GIso3<T> const& pose, GRay3<T> const& ray,
