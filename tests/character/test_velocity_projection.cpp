@@ -333,6 +333,23 @@ TEST_CASE("2D named cases", "[solver][projection][2d]") {
   auto const opposite = project_velocity(Vec2{1, 2}, std::vector<Vec2>{wall, -wall});
   CHECK(opposite.velocity.x == 0);
   CHECK(opposite.velocity.y == 2);
+  // A component beyond 2^40 is invalid input (the fuzz target found |v| = 1.7e38 coming back
+  // infinite); at 2^40, with normals of the shortest length allowed, the answer is finite.
+  std::vector<Vec2> const tiny{floor * 0x1p-20f, Vec2{-1, 0.05f} * 0x1p-20f};
+  for (Vec2 const big : {Vec2{0x1p41f, -1}, Vec2{1, -1.7e38f}, Vec2{-3.4e38f, 0}}) {
+    auto const r = project_velocity(big, tiny);
+    CHECK(r.invalid_input);
+    CHECK(!r.converged);
+    CHECK(r.velocity.x == 0);
+    CHECK(project_velocity_bruteforce(big, tiny).invalid_input);
+  }
+  for (Vec2 const edge : {Vec2{0x1p40f, -0x1p40f}, Vec2{-0x1p40f, -0x1p40f}}) {
+    auto const r = project_velocity(edge, tiny);
+    CHECK(!r.invalid_input);
+    CHECK(r.converged);
+    CHECK(std::isfinite(r.velocity.x));
+    CHECK(std::isfinite(r.velocity.y));
+  }
 }
 
 // ------------------------------------------------------------------------------------- bad input
@@ -406,6 +423,46 @@ TEMPLATE_LIST_TEST_CASE("bad input: empty sets, zero and non-unit normals, tiny 
       CHECK(plume::none(r.invalid_input));
       CHECK(plume::all(r.converged));
       CHECK(plume::all(r.velocity.z >= -splat<T>(S(0.005)) / splat<T>(len)));
+    }
+  }
+  SECTION("a component of v beyond 2^40: invalid_input; up to 2^40, a finite answer") {
+    // Found by the velocity_projection fuzz target: |v| near float's largest against a
+    // crease or a corner came back infinite and marked converged (n . v times the crease and
+    // corner solves overflowed).
+    S const tilt = S(0x1p-20) * S(0.05);
+    std::vector<V> const corner = {V{zero<T>(), zero<T>(), splat<T>(S(0x1p-20))},
+                                   V{splat<T>(-S(0x1p-20)), zero<T>(), splat<T>(tilt)},
+                                   V{splat<T>(tilt), splat<T>(-S(0x1p-20)), zero<T>()}};
+    for (S big : {S(0x1p41), S(-1e20), S(1.7e38), S(-3.4e38)}) {
+      INFO("component " << big);
+      for (int axis = 0; axis < 3; ++axis) {
+        V bv = v;
+        (axis == 0 ? bv.x : axis == 1 ? bv.y : bv.z) = splat<T>(big);
+        std::array<T, 3> lambda;
+        auto const r = project_velocity<T>(bv, corner, lambda);
+        CHECK(same_vec(r.velocity, V{}));
+        CHECK(plume::all(r.invalid_input));
+        CHECK(plume::none(r.converged));
+        CHECK(plume::all(lambda[0] == zero<T>()));
+        CHECK(plume::all(project_velocity_bruteforce(bv, corner).invalid_input));
+      }
+    }
+    // At the bound, into the corner and along its creases, with the shortest normals allowed
+    // (the largest multipliers, |v| / |n| = 2^60, squared below float's largest).
+    T const m = splat<T>(S(0x1p40));
+    for (V const& edge : {V{m, m, -m}, V{m, -m, -m}, V{-m, m, -m}, V{-m, -m, m}}) {
+      std::array<T, 3> lambda;
+      auto const r = project_velocity<T>(edge, corner, lambda);
+      CHECK(plume::none(r.invalid_input));
+      CHECK(plume::all(r.converged));
+      CHECK(plume::all(r.velocity.is_finite()));
+      for (V const& n : corner)
+        CHECK(plume::all(n.dot(r.velocity) >= splat<T>(S(-0.005))));
+      for (T const& l : lambda)
+        CHECK(plume::all(plume::is_finite(l) & (l >= zero<T>())));
+      auto const b = project_velocity_bruteforce(edge, corner);
+      CHECK(plume::none(b.invalid_input));
+      CHECK(plume::all(b.velocity.is_finite()));
     }
   }
   SECTION("out of steps: zero velocity, not converged") {

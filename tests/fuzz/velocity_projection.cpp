@@ -92,6 +92,13 @@ bool usable_normal(V const& n) {
   if constexpr (dim<V> == 3) l2 += double(n.z) * n.z;
   return l2 >= 0x1p-40 && l2 <= 0x1p40;
 }
+/// Every component at most 2^40 in magnitude (the header's bound on v; NaN fails).
+template <class V>
+bool usable_velocity(V const& v) {
+  bool ok = std::abs(v.x) <= 0x1p40f && std::abs(v.y) <= 0x1p40f;
+  if constexpr (dim<V> == 3) ok = ok && std::abs(v.z) <= 0x1p40f;
+  return ok;
+}
 template <class V>
 bool same_bits(V const& a, V const& b) {
   bool same = std::bit_cast<std::uint32_t>(a.x) == std::bit_cast<std::uint32_t>(b.x) &&
@@ -204,8 +211,9 @@ void check_projection(V const& v, std::vector<V> const& ns, bool unit_set,
 
   bool const finite_input =
       finite_vec(v) && std::all_of(ns.begin(), ns.end(), [](V const& n) { return finite_vec(n); });
-  bool const usable = finite_vec(v) && std::all_of(ns.begin(), ns.end(),
-                                                   [](V const& n) { return usable_normal(n); });
+  bool const usable = usable_velocity(v) && std::all_of(ns.begin(), ns.end(), [](V const& n) {
+                        return usable_normal(n);
+                      });
   // (Lengths within a float rounding of the range ends may go either way.)
   bool const near_end = std::any_of(ns.begin(), ns.end(), [](V const& n) {
     if (is_zero(n) || !finite_vec(n)) return false;

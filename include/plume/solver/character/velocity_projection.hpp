@@ -49,9 +49,10 @@
 //    parallel_epsilon |n_i|^2 |n_j|^2 have no usable crease; three planes whose triple
 //    product squared is at most parallel_epsilon |n_i|^2 |n_j|^2 |n_k|^2 no usable corner.
 //    Exactly opposite planes give the projection onto their common plane.
-//  - Non-finite v or normal in a lane, or a nonzero normal whose length is outside
-//    [2^-20, 2^20] (about 1e-6 to 1e6: the formulas multiply up to six lengths): that lane
-//    returns zero velocity, status invalid_input, lambda 0; other lanes are unaffected.
+//  - Non-finite v or normal in a lane, a component of v beyond 2^40 in magnitude (about
+//    1.1e12 velocity units), or a nonzero normal whose length is outside [2^-20, 2^20]
+//    (about 1e-6 to 1e6: the formulas multiply up to six lengths and square |v| / |n|): that
+//    lane returns zero velocity, status invalid_input, lambda 0; other lanes are unaffected.
 //  - A lane that needs more than max_steps steps, or meets a configuration no candidate
 //    solves (degenerate, nearly parallel planes), returns zero velocity (always feasible)
 //    with converged = false.
@@ -99,7 +100,7 @@ struct GVelocityProjection {
   Vec velocity;            ///< the projected velocity u
   T steps;                 ///< planes added (0: v was already allowed); a small whole number
   mask_t<T> converged;     ///< no plane violated by more than epsilon at the returned u
-  mask_t<T> invalid_input; ///< v or a normal not finite, or a normal's length out of range
+  mask_t<T> invalid_input; ///< v or a normal not finite, or v's or a normal's size out of range
 };
 using VelocityProjection3 = GVelocityProjection<GVec3<float>>;
 using VelocityProjection2 = GVelocityProjection<GVec2<float>>;
@@ -109,15 +110,17 @@ namespace detail {
 template <class Vec>
 using vp_elem = typename Vec::element_type;
 
-/// The lanes whose input the algorithm takes: v finite, and every normal zero or of a length
-/// in [2^-20, 2^20] (the candidates' Gram determinants multiply up to six lengths, which
-/// must neither overflow nor underflow). A non-finite component fails both tests.
+/// The lanes whose input the algorithm takes: every component of v at most 2^40 in magnitude,
+/// and every normal zero or of a length in [2^-20, 2^20] (the candidates' Gram determinants
+/// multiply up to six lengths, which must neither overflow nor underflow; a multiplier,
+/// |v| / |n|, is squared, which bounds v). A non-finite component fails both tests.
 template <class Vec>
 PLUME_INLINE mask_t<vp_elem<Vec>> usable_input(Vec const& v,
                                                std::span<Vec const> normals) noexcept {
   using T = vp_elem<Vec>;
   T const lo = splat<T>(0x1p-40), hi = splat<T>(0x1p40), zero = plume::zero<T>();
-  mask_t<T> ok = v.is_finite();
+  mask_t<T> ok = (plume::abs(v.x) <= hi) & (plume::abs(v.y) <= hi);
+  if constexpr (Vec::dim == 3) ok = ok & (plume::abs(v.z) <= hi);
   for (Vec const& n : normals) {
     T const l2 = n.dot(n);
     mask_t<T> is_zero = (n.x == zero) & (n.y == zero);
