@@ -102,15 +102,17 @@ struct epa_polytope {
   GVec3<S> inside{}; ///< the seed tetrahedron's centroid
 
   /// The face (a, b, c) into f: its unit normal and distance; false when it has no area or,
-  /// with `check_inside`, when `inside` is not strictly behind it (turned inward by rounding).
-  bool make_face(int a, int b, int c, bool check_inside, face& f) const noexcept {
+  /// with `check`, when `inside` is not strictly behind it (turned inward by rounding) or its
+  /// distance is below min_d (turned sideways: see grow()).
+  bool make_face(int a, int b, int c, bool check, S min_d, face& f) const noexcept {
     GVec3<S> const& pa = vert[std::size_t(a)].p;
     GVec3<S> n = (vert[std::size_t(b)].p - pa).cross(vert[std::size_t(c)].p - pa);
     S const len = n.length();
     if (!(len > S(0))) return false;
     n = n / len;
-    if (check_inside && !(n.dot(inside - pa) < S(0))) return false;
-    f = face{{a, b, c}, n, n.dot(pa), true};
+    S const d = n.dot(pa);
+    if (check && !(n.dot(inside - pa) < S(0) && d >= min_d)) return false;
+    f = face{{a, b, c}, n, d, true};
     return true;
   }
 
@@ -118,7 +120,7 @@ struct epa_polytope {
   bool add_face(int a, int b, int c) {
     if (nf == max_faces) return false;
     face f;
-    if (!make_face(a, b, c, false, f)) return false;
+    if (!make_face(a, b, c, false, S(0), f)) return false;
     faces[std::size_t(nf++)] = f;
     return true;
   }
@@ -180,10 +182,14 @@ struct epa_polytope {
   /// Adds vertex w: the faces that see it are replaced by a fan from the horizon to it. A
   /// face w does not see but lies almost in the plane of (a flat part of D: a cylinder's cap,
   /// a box's face) would leave the new face beside it a sliver or turned inward; such a face
-  /// joins the replaced region and the horizon is taken again. False, with the polytope
-  /// unchanged, when the vertices or faces are full or no region gives valid faces (EPA then
-  /// reports the best face found).
-  bool grow(simplex_vertex<S> const& w) noexcept {
+  /// joins the replaced region and the horizon is taken again. min_d: the smallest distance
+  /// a new face may have. A polytope that holds the origin only grows, so no face of the
+  /// next one is nearer the origin than the nearest face now; a new face that is (beyond the
+  /// rounding) was made from a horizon edge nearly in line with w, its normal set by
+  /// rounding, and is refused the same way. False, with the polytope unchanged, when the
+  /// vertices or faces are full or no region gives valid faces (EPA then reports the best
+  /// face found).
+  bool grow(simplex_vertex<S> const& w, S min_d) noexcept {
     if (nv == max_vertices) return false;
     // Compact the face list now and then so it does not fill with dead faces.
     if (nf > max_faces - 3 * 16) compact();
@@ -202,7 +208,7 @@ struct epa_polytope {
       bool ok = true;
       for (int k = 0; k < ne; ++k) {
         int const ea = edges[std::size_t(k)][0], eb = edges[std::size_t(k)][1];
-        if (make_face(ea, eb, vi, true, fresh[std::size_t(k)])) continue;
+        if (make_face(ea, eb, vi, true, min_d, fresh[std::size_t(k)])) continue;
         ok = false;
         int const across = face_with_edge(eb, ea, in);
         if (across < 0) return false;
@@ -383,7 +389,10 @@ epa_outcome<S> expand(epa_polytope<S>& poly, Diff const& diff, S scale,
       r.status = PenetrationStatus::penetrating;
       break;
     }
-    if (!poly.grow(w)) break; // keep the best face found
+    // The nearest face's distance, less the rounding, bounds the next polytope's faces from
+    // below once the polytope holds the origin.
+    S const min_d = bf.d >= S(0) ? bf.d - std::max(tol, floor) : -infinity<S>();
+    if (!poly.grow(w, min_d)) break; // keep the best face found
   }
   return r;
 }
