@@ -15,6 +15,7 @@
 #include <limits>
 #include <map>
 #include <span>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -27,9 +28,57 @@ struct tri {
   std::array<int, 3> nb;
   DVec3 n;  ///< unit outward normal (zero for a degenerate triangle)
   double d; ///< n . centroid
+  /// With accurate heights: a bound of the error of n . p - d per unit of |p|_1 + |centroid|_1
+  /// (the rounding of the normal, large for a sliver, and of the two dot products), and
+  /// |(b - a) x (c - a)|.
+  double err = 0, area2 = 0;
+  double c1 = 0; ///< |centroid|_1
   std::vector<int> outside;
   bool alive = true;
 };
+
+/// Double-double arithmetic (error-free transformations without FMA, Dekker and Knuth): the
+/// accurate heights of a build from double points.
+namespace dd {
+struct num {
+  double hi, lo;
+};
+inline num two_sum(double a, double b) {
+  double const s = a + b, bb = s - a;
+  return {s, (a - (s - bb)) + (b - bb)};
+}
+inline num split(double a) {
+  double const t = 134217729.0 * a, hi = t - (t - a); // 2^27 + 1
+  return {hi, a - hi};
+}
+inline num two_prod(double a, double b) {
+  double const p = a * b;
+  num const sa = split(a), sb = split(b);
+  return {p, ((sa.hi * sb.hi - p) + sa.hi * sb.lo + sa.lo * sb.hi) + sa.lo * sb.lo};
+}
+inline num add(num a, num b) {
+  num const s = two_sum(a.hi, b.hi);
+  double const lo = s.lo + (a.lo + b.lo);
+  return two_sum(s.hi, lo);
+}
+inline num mul(num a, num b) {
+  num const p = two_prod(a.hi, b.hi);
+  return two_sum(p.hi, p.lo + (a.hi * b.lo + a.lo * b.hi));
+}
+inline num neg(num a) { return {-a.hi, -a.lo}; }
+/// ((b - a) x (c - a)) . (p - a), with every difference exact and the products and sums in
+/// double-double: relative error about 2^-100 of the terms.
+inline double orient(DVec3 const& a, DVec3 const& b, DVec3 const& c, DVec3 const& p) {
+  num const ux = two_sum(b.x, -a.x), uy = two_sum(b.y, -a.y), uz = two_sum(b.z, -a.z);
+  num const vx = two_sum(c.x, -a.x), vy = two_sum(c.y, -a.y), vz = two_sum(c.z, -a.z);
+  num const wx = two_sum(p.x, -a.x), wy = two_sum(p.y, -a.y), wz = two_sum(p.z, -a.z);
+  num const nx = add(mul(uy, vz), neg(mul(uz, vy)));
+  num const ny = add(mul(uz, vx), neg(mul(ux, vz)));
+  num const nz = add(mul(ux, vy), neg(mul(uy, vx)));
+  num const o = add(add(mul(nx, wx), mul(ny, wy)), mul(nz, wz));
+  return o.hi + o.lo;
+}
+} // namespace dd
 
 /// The hull under construction: the input points in double, every triangle made so far (dead
 /// ones stay, so that indices are stable), the tolerance, and the points dropped as inside
@@ -40,21 +89,47 @@ struct state {
   std::vector<tri> tris;
   double tol = 0;
   double sees = 0; ///< the height above a triangle's plane from which a point sees it
+  /// Heights decided in double-double where double's rounding could reach them (points in
+  /// double: the default tolerance, 16 eps(double), is at double's own rounding).
+  bool accurate = false;
   std::vector<int> near;
 
   DVec3 const& point(int i) const { return p[std::size_t(i)]; }
-  /// The signed distance of point i above t's plane.
-  double dist(tri const& t, int i) const { return t.n.dot(p[std::size_t(i)]) - t.d; }
+  /// The signed distance of point i above t's plane. With `accurate`, a height within the
+  /// bound of its rounding is taken again as orient(a, b, c, p) / |(b - a) x (c - a)| in
+  /// double-double: its sign and size then no longer depend on the rounding of a sliver's
+  /// normal.
+  double dist(tri const& t, int i) const {
+    DVec3 const& q = p[std::size_t(i)];
+    double const h = t.n.dot(q) - t.d;
+    if (!accurate || !(t.area2 > 0)) return h;
+    double const bound = t.err * ((std::abs(q.x) + std::abs(q.y) + std::abs(q.z)) + t.c1);
+    if (std::abs(h) > bound) return h;
+    return dd::orient(point(t.v[0]), point(t.v[1]), point(t.v[2]), q) / t.area2;
+  }
 
   /// Appends the triangle (a, b, c) with no neighbours yet; returns its index.
   int add_tri(int a, int b, int c) {
     tri t;
     t.v = {a, b, c};
     t.nb = {-1, -1, -1};
-    DVec3 const n = (point(b) - point(a)).cross(point(c) - point(a));
+    DVec3 const e1 = point(b) - point(a), e2 = point(c) - point(a);
+    DVec3 const n = e1.cross(e2);
     double const len = n.length();
     t.n = len > 0 ? n * (1.0 / len) : DVec3{};
-    t.d = t.n.dot((point(a) + point(b) + point(c)) * (1.0 / 3.0));
+    DVec3 const centroid = (point(a) + point(b) + point(c)) * (1.0 / 3.0);
+    t.d = t.n.dot(centroid);
+    if (accurate && len > 0) {
+      // The normal's rounding: each edge difference and cross product term within a few eps
+      // of |e1| |e2|, so its direction within about 8 eps |e1| |e2| / |n| (the sliver's
+      // condition); the centroid's and the dot products' rounding a few eps more. Four
+      // times that, as a safe filter.
+      double const eps = std::numeric_limits<double>::epsilon();
+      double const cond = e1.length() * e2.length() / len;
+      t.err = 64.0 * eps * (cond + 1.0);
+      t.area2 = len;
+      t.c1 = std::abs(centroid.x) + std::abs(centroid.y) + std::abs(centroid.z);
+    }
     tris.push_back(std::move(t));
     return int(tris.size() - 1);
   }
@@ -114,10 +189,12 @@ HullError load_points(std::span<GVec3<S> const> in, S tolerance, state& b) {
       16.0 * double(std::numeric_limits<S>::epsilon()) * (amax.x + amax.y + amax.z);
   b.tol = std::max(floor, double(tolerance)); // (a NaN tolerance: the floor)
   // Far below the tolerance, far above the rounding of a height computed in double (a few
-  // eps(double) x the coordinates; more for a sliver's normal). With S = double and the
-  // default tolerance, that rounding is above the tolerance: the tolerance itself.
+  // eps(double) x the coordinates; more for a sliver's normal). With S = double that rounding
+  // is at the default tolerance, so heights near it are decided in double-double (`accurate`),
+  // whose rounding is far below tol x 2^-20.
+  b.accurate = std::is_same_v<S, double>;
   double const rounding =
-      64.0 * std::numeric_limits<double>::epsilon() * (amax.x + amax.y + amax.z);
+      b.accurate ? 0.0 : 64.0 * std::numeric_limits<double>::epsilon() * (amax.x + amax.y + amax.z);
   b.sees = std::min(b.tol, std::max(b.tol * 0x1p-20, rounding));
   return HullError::none;
 }
@@ -491,16 +568,28 @@ void emit_vertices(state const& b, std::map<int, std::uint32_t>& index, hull_dat
   }
 }
 
-/// The unit Newell normal of a loop and the mean of its vertices.
+/// The unit Newell normal of a loop and the mean of its vertices. With accurate heights the
+/// normal's sums are taken in double-double: a sliver face of a slab a few tolerances thick
+/// has a normal double's rounding would turn by up to eps / (its width), tilting its plane
+/// by many tolerances at its far end.
 inline std::pair<DVec3, DVec3> newell_plane(state const& b, std::vector<int> const& l) {
   DVec3 nn{}, c{};
+  dd::num sx{0, 0}, sy{0, 0}, sz{0, 0};
   for (std::size_t i = 0; i < l.size(); ++i) {
     DVec3 const& a = b.p[std::size_t(l[i])];
     DVec3 const& q = b.p[std::size_t(l[(i + 1) % l.size()])];
-    nn =
-        nn + DVec3{(a.y - q.y) * (a.z + q.z), (a.z - q.z) * (a.x + q.x), (a.x - q.x) * (a.y + q.y)};
+    if (b.accurate) {
+      using namespace dd;
+      sx = add(sx, mul(two_sum(a.y, -q.y), two_sum(a.z, q.z)));
+      sy = add(sy, mul(two_sum(a.z, -q.z), two_sum(a.x, q.x)));
+      sz = add(sz, mul(two_sum(a.x, -q.x), two_sum(a.y, q.y)));
+    } else {
+      nn = nn +
+           DVec3{(a.y - q.y) * (a.z + q.z), (a.z - q.z) * (a.x + q.x), (a.x - q.x) * (a.y + q.y)};
+    }
     c = c + a;
   }
+  if (b.accurate) nn = DVec3{sx.hi + sx.lo, sy.hi + sy.lo, sz.hi + sz.lo};
   nn = nn * (1.0 / nn.length());
   c = c * (1.0 / double(l.size()));
   return {nn, c};
