@@ -456,11 +456,15 @@ std::array<S, 3> nearest_face_weights(epa_polytope<S> const& poly,
 /// (a coplanar neighbour as near as bf holds it: the polytope's faces there are one flat
 /// face of D split in triangles), the weights come from the live face of the same plane
 /// (within `slack` in distance, 1e-4 in normal) that holds it, so the points are convex
-/// combinations of support points (on A and B), not extrapolations past them.
+/// combinations of support points (on A and B), not extrapolations past them; else from the
+/// nearest live face within 4 `slack` of bf's distance that holds its own projection, which
+/// `reported` then names (the normal and depth to report; otherwise bf); else from bf's
+/// point nearest the projection.
 template <ScalarReal S>
 std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly,
-                                          typename epa_polytope<S>::face const& bf,
-                                          S slack) noexcept {
+                                          typename epa_polytope<S>::face const& bf, S slack,
+                                          typename epa_polytope<S>::face& reported) noexcept {
+  reported = bf;
   GVec3<S> const q = bf.n * bf.d;
   auto const inside = [](std::array<S, 3> const& l) {
     return l[0] >= S(0) && l[1] >= S(0) && l[2] >= S(0);
@@ -475,6 +479,24 @@ std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly,
     if (inside(lg)) {
       f = g;
       l = lg;
+    }
+  }
+  if (!inside(l)) {
+    // No face of that plane holds it, where the rounding of a sliver face (a short edge beside
+    // long ones) left bf nearest though the origin projects beyond its short edge (2.8e-3
+    // beyond, depth 1.41): a live face within 4 `slack` of bf's distance is as near within
+    // a few convergence tolerances (the depth lies between bf's distance and that plus the
+    // tolerance), and the nearest of those whose own projection it holds is reported instead
+    // (its normal, distance and weights).
+    for (int k = 0; k < poly.nf; ++k) {
+      auto const& g = poly.faces[std::size_t(k)];
+      if (!g.alive || !(g.d <= bf.d + S(4) * slack) || (inside(l) && !(g.d < f.d))) continue;
+      std::array<S, 3> const lg = face_weights(poly, g, g.n * g.d);
+      if (inside(lg)) {
+        f = g;
+        l = lg;
+        reported = g;
+      }
     }
   }
   if (!inside(l)) {
@@ -542,8 +564,9 @@ GPenetrationResult<S> penetration(A const& a, GIso3<S> const& pose_a, B const& b
   if (r.best_face < 0) return flat_fallback(seed);
   S const slack =
       std::max(S(cfg.tolerance), S(16) * std::numeric_limits<S>::epsilon() * seed.scale);
-  auto const [pa, pb] = detail::face_points(poly, r.chosen, slack);
-  return finish(std::max(r.chosen.d, S(0)), r.chosen.n, pa, pb, r.status, r.iterations);
+  typename detail::epa_polytope<S>::face used;
+  auto const [pa, pb] = detail::face_points(poly, r.chosen, slack, used);
+  return finish(std::max(used.d, S(0)), used.n, pa, pb, r.status, r.iterations);
 }
 
 using PenetrationResult = GPenetrationResult<float>;
