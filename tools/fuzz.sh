@@ -8,8 +8,9 @@
 # Each target starts from its committed seeds (tests/fuzz/corpus/<target>, read only) and
 # keeps what it finds in build/fuzz/corpus/<target>, so a later run continues from there.
 # --runs (CI's form) runs a fixed number of executions from the committed seeds only, with a
-# fixed random seed: the same code fuzzes the same inputs on every machine, so a CI failure
-# reproduces, and a slow machine takes longer instead of testing less.
+# fixed random seed, no corpus reload and no address randomisation, so that runs on one
+# machine mostly repeat (not always: docs/fuzzing.md), and a slow machine takes longer
+# instead of testing less. A failure's input is kept, and it reproduces from that.
 # A crash, a sanitizer report or a broken property stops that target and leaves the input in
 # build/fuzz/artifacts/; copy it into tests/fuzz/corpus/<target>/regress-<what> once fixed,
 # and the ordinary tests run it from then on. Exit status 0 only if every target ran clean.
@@ -53,7 +54,10 @@ for t in "${targets[@]}"; do
     # A fresh output folder each time: what an earlier run kept must not change this one.
     rm -rf "build/fuzz/corpus-ci/$t"
     mkdir -p "build/fuzz/corpus-ci/$t"
-    bound=(-runs="$runs" -seed=1)
+    # Also no corpus reload (-reload=0: libFuzzer rereads the output folder every second,
+    # which makes a run depend on the machine's speed) and no address randomisation
+    # (setarch -R: coverage features that depend on addresses differ from run to run).
+    bound=(-runs="$runs" -seed=1 -reload=0)
     out="build/fuzz/corpus-ci/$t"
   else
     mkdir -p "build/fuzz/corpus/$t"
@@ -61,8 +65,10 @@ for t in "${targets[@]}"; do
     out="build/fuzz/corpus/$t"
   fi
   start_t=$(date +%s)
+  fixed=()
+  [ -n "$runs" ] && command -v setarch >/dev/null && fixed=(setarch "$(uname -m)" -R)
   if ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-    "build/fuzz/tests/fuzz/plume_fuzz_$t" "${bound[@]}" -rss_limit_mb=2048 -timeout=10 \
+    "${fixed[@]}" "build/fuzz/tests/fuzz/plume_fuzz_$t" "${bound[@]}" -rss_limit_mb=2048 -timeout=10 \
     -print_final_stats=1 -artifact_prefix="build/fuzz/artifacts/$t-" \
     "$out" "tests/fuzz/corpus/$t" >"$log" 2>&1; then
     done_runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' "$log" | grep -o '[0-9]*$' || true)
