@@ -349,6 +349,22 @@ TEST_CASE("penetration: a point deep in a cylinder gets its depth (coplanar supp
   CHECK(worst >= 0.9);
 }
 
+namespace {
+/// Hull points as the fuzz findings of EPA's sliver faces had them: n points alternating
+/// between random ones in [-1.5, 1.5]^3 and random corners of that cube, then a copy of point
+/// `twin` moved by `nudge` (a near-duplicate vertex).
+std::vector<Vec3> corner_cloud(std::mt19937& rng, int n, std::size_t twin, Vec3 nudge) {
+  std::uniform_real_distribution<float> u(-1, 1);
+  std::vector<Vec3> p;
+  for (int k = 0; k < n; ++k)
+    p.push_back(k % 2 == 0 ? Vec3{u(rng), u(rng), u(rng)} * 1.5f
+                           : Vec3{u(rng) > 0 ? 1.5f : -1.5f, u(rng) > 0 ? 1.5f : -1.5f,
+                                  u(rng) > 0 ? 1.5f : -1.5f});
+  p.push_back(p[twin] + nudge);
+  return p;
+}
+} // namespace
+
 TEST_CASE("penetration: no face of the grown polytope comes nearer than the nearest face",
           "[collision][epa][fuzz]") {
   // Fuzz finding contact_manifold regress-epa-sideways-face: a cylinder and a 6-vertex hull
@@ -386,12 +402,7 @@ TEST_CASE("penetration: no face of the grown polytope comes nearer than the near
   int bad = 0, cases = 0;
   double worst = 0;
   for (int i = 0; i < 8000; ++i) {
-    std::vector<Vec3> p;
-    for (int k = 0; k < 6; ++k)
-      p.push_back(k % 2 == 0 ? Vec3{u(rng), u(rng), u(rng)} * 1.5f
-                             : Vec3{u(rng) > 0 ? 1.5f : -1.5f, u(rng) > 0 ? 1.5f : -1.5f,
-                                    u(rng) > 0 ? 1.5f : -1.5f});
-    p.push_back(p[0] + Vec3{3e-5f, 0, 0}); // a near-duplicate vertex, as in the finding
+    std::vector<Vec3> const p = corner_cloud(rng, 6, 0, Vec3{3e-5f, 0, 0});
     auto const built = ConvexHull::build(p);
     if (!built) continue;
     Cylinder const c{size(rng), size(rng)};
@@ -538,12 +549,7 @@ TEST_CASE("penetration: the origin projecting past a sliver face's short edge re
   int bad = 0, cases = 0;
   double worst = 0;
   for (int i = 0; i < 4000; ++i) {
-    std::vector<Vec3> p;
-    for (int k = 0; k < 5; ++k)
-      p.push_back(k % 2 == 0 ? Vec3{u(rng), u(rng), u(rng)} * 1.5f
-                             : Vec3{u(rng) > 0 ? 1.5f : -1.5f, u(rng) > 0 ? 1.5f : -1.5f,
-                                    u(rng) > 0 ? 1.5f : -1.5f});
-    p.push_back(p[1] + Vec3{0, 0, 3e-5f});
+    std::vector<Vec3> const p = corner_cloud(rng, 5, 1, Vec3{0, 0, 3e-5f});
     auto const built = ConvexHull::build(p);
     if (!built) continue;
     Cylinder const c{size(rng), size(rng)};
