@@ -128,7 +128,8 @@ struct epa_polytope {
   /// The live face nearest to the origin (smallest signed distance: a negative one means the
   /// origin is still outside it, and expanding it grows the polytope over the origin); -1 if
   /// none. Its distance is a lower bound of the depth wherever the polytope holds the origin
-  /// (the polytope lies in D), which is why a capped result reports the nearest face.
+  /// (the polytope lies in D), which is why a capped result reports the nearest face (or a
+  /// neighbour within 4 tolerances of it whose plane the origin projects into: face_points).
   int nearest_face() const noexcept {
     int near = -1;
     for (int f = 0; f < nf; ++f)
@@ -457,11 +458,12 @@ std::array<S, 3> nearest_face_weights(epa_polytope<S> const& poly,
 /// face of D split in triangles), the weights come from the live face of the same plane
 /// (within `slack` in distance, 1e-4 in normal) that holds it, so the points are convex
 /// combinations of support points (on A and B), not extrapolations past them; else from the
-/// nearest live face within 4 `slack` of bf's distance that holds its own projection, which
-/// `reported` then names (the normal and depth to report; otherwise bf); else from bf's
-/// point nearest the projection.
-template <ScalarReal S>
-std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly,
+/// nearest live face of nearly bf's orientation within 4 `slack` of its distance that holds
+/// its own projection and that D does not pass by more than `slack` (a support of `diff`),
+/// which `reported` then names (the normal and depth to report; otherwise bf); else from
+/// bf's point nearest the projection.
+template <ScalarReal S, class Diff>
+std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly, Diff const& diff,
                                           typename epa_polytope<S>::face const& bf, S slack,
                                           typename epa_polytope<S>::face& reported) noexcept {
   reported = bf;
@@ -484,15 +486,20 @@ std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly,
   if (!inside(l)) {
     // No face of that plane holds it, where the rounding of a sliver face (a short edge beside
     // long ones) left bf nearest though the origin projects beyond its short edge (2.8e-3
-    // beyond, depth 1.41): a live face within 4 `slack` of bf's distance is as near within
-    // a few convergence tolerances (the depth lies between bf's distance and that plus the
-    // tolerance), and the nearest of those whose own projection it holds is reported instead
-    // (its normal, distance and weights).
-    for (int k = 0; k < poly.nf; ++k) {
+    // beyond, depth 1.41): a live neighbour of nearly bf's orientation (within 2.6 degrees)
+    // within 4 `slack` of its distance is as near within a few convergence tolerances (a
+    // converged depth lies between bf's distance and that plus the tolerance), and the
+    // nearest of those whose own projection it holds is reported instead (its normal,
+    // distance and weights), if D reaches no farther than `slack` beyond its plane (the
+    // test bf passed). Only once the polytope holds the origin (bf.d >= 0).
+    for (int k = 0; k < poly.nf && bf.d >= S(0); ++k) {
       auto const& g = poly.faces[std::size_t(k)];
-      if (!g.alive || !(g.d <= bf.d + S(4) * slack) || (inside(l) && !(g.d < f.d))) continue;
+      if (!g.alive || !(g.d <= bf.d + S(4) * slack) || !(g.n.dot(bf.n) >= S(0.999)) ||
+          (inside(l) && !(g.d < f.d)))
+        continue;
       std::array<S, 3> const lg = face_weights(poly, g, g.n * g.d);
-      if (inside(lg)) {
+      // Certified as bf was: D reaches no farther than `slack` beyond g's plane.
+      if (inside(lg) && diff.vertex(g.n).p.dot(g.n) - g.d <= slack) {
         f = g;
         l = lg;
         reported = g;
@@ -565,7 +572,7 @@ GPenetrationResult<S> penetration(A const& a, GIso3<S> const& pose_a, B const& b
   S const slack =
       std::max(S(cfg.tolerance), S(16) * std::numeric_limits<S>::epsilon() * seed.scale);
   typename detail::epa_polytope<S>::face used;
-  auto const [pa, pb] = detail::face_points(poly, r.chosen, slack, used);
+  auto const [pa, pb] = detail::face_points(poly, diff, r.chosen, slack, used);
   return finish(std::max(used.d, S(0)), used.n, pa, pb, r.status, r.iterations);
 }
 
