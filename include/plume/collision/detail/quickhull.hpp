@@ -96,16 +96,19 @@ struct state {
 
   DVec3 const& point(int i) const { return p[std::size_t(i)]; }
   /// The signed distance of point i above t's plane. With `accurate`, a height within the
-  /// bound of its rounding is taken again as orient(a, b, c, p) / |(b - a) x (c - a)| in
-  /// double-double: its sign and size then no longer depend on the rounding of a sliver's
-  /// normal.
+  /// bound of its rounding is taken again as orient(a, b, c, p) / |(b - a) x (c - a)| with the
+  /// orientation in double-double: its sign no longer depends on the rounding of a sliver's
+  /// normal, and its size only through |(b - a) x (c - a)| in double (a relative error of a
+  /// few eps times the sliver's aspect ratio).
   double dist(tri const& t, int i) const {
     DVec3 const& q = p[std::size_t(i)];
     double const h = t.n.dot(q) - t.d;
     if (!accurate || !(t.area2 > 0)) return h;
     double const bound = t.err * ((std::abs(q.x) + std::abs(q.y) + std::abs(q.z)) + t.c1);
     if (std::abs(h) > bound) return h;
-    return dd::orient(point(t.v[0]), point(t.v[1]), point(t.v[2]), q) / t.area2;
+    // (Coordinates beyond about 1e102 overflow the double-double products: h then stands.)
+    double const exact = dd::orient(point(t.v[0]), point(t.v[1]), point(t.v[2]), q) / t.area2;
+    return std::isfinite(exact) ? exact : h;
   }
 
   /// Appends the triangle (a, b, c) with no neighbours yet; returns its index.
