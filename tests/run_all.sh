@@ -95,7 +95,7 @@ else
 fi
 
 # Fuzzing is not a stage yet. Its fixed-count run (tools/fuzz.sh --runs 10000, the stage's
-# command) has found pre-existing bugs in every run so far (docs/fuzzing.md: 2 to 4 a round,
+# command) has found pre-existing bugs in every run so far (docs/fuzzing.md: 1 to 4 a round,
 # fixed as they come), and libFuzzer's runs are not fully repeatable, so the stage would fail
 # this command at random on bugs nobody's change made. It joins here, as
 # `bash tools/fuzz.sh --runs "${PLUME_CI_FUZZ_RUNS:-10000}" || failed+=("fuzzing")`, once

@@ -65,8 +65,9 @@ for t in "${targets[@]}"; do
     out="build/fuzz/corpus/$t"
   fi
   start_t=$(date +%s)
-  fixed=()
-  [ -n "$runs" ] && command -v setarch >/dev/null && fixed=(setarch "$(uname -m)" -R)
+  # (setarch -R needs the personality system call, which some containers refuse: tried first.)
+  fixed=(env)
+  [ -n "$runs" ] && setarch "$(uname -m)" -R true 2>/dev/null && fixed=(setarch "$(uname -m)" -R)
   if ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
     "${fixed[@]}" "build/fuzz/tests/fuzz/plume_fuzz_$t" "${bound[@]}" -rss_limit_mb=2048 -timeout=10 \
     -print_final_stats=1 -artifact_prefix="build/fuzz/artifacts/$t-" \
