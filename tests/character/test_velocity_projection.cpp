@@ -448,22 +448,28 @@ TEMPLATE_LIST_TEST_CASE("bad input: empty sets, zero and non-unit normals, tiny 
       }
     }
     // At the bound, into the corner and along its creases, with the shortest normals allowed
-    // (the largest multipliers, |v| / |n| = 2^60, squared below float's largest).
+    // (the largest multipliers, |v| / |n| = 2^60, squared below float's largest) and with
+    // the longest (the largest Gram determinants and n . v).
     T const m = splat<T>(S(0x1p40));
-    for (V const& edge : {V{m, m, -m}, V{m, -m, -m}, V{-m, m, -m}, V{-m, -m, m}}) {
-      std::array<T, 3> lambda;
-      auto const r = project_velocity<T>(edge, corner, lambda);
-      CHECK(plume::none(r.invalid_input));
-      CHECK(plume::all(r.converged));
-      CHECK(plume::all(r.velocity.is_finite()));
-      for (V const& n : corner)
-        CHECK(plume::all(n.dot(r.velocity) >= splat<T>(S(-0.005))));
-      for (T const& l : lambda)
-        CHECK(plume::all(plume::is_finite(l) & (l >= zero<T>())));
-      auto const b = project_velocity_bruteforce(edge, corner);
-      CHECK(plume::none(b.invalid_input));
-      CHECK(plume::all(b.velocity.is_finite()));
-    }
+    std::vector<V> long_corner;
+    for (V const& n : corner)
+      long_corner.push_back(n * splat<T>(S(0x1.fcp39))); // (just below 2^20 long)
+    std::array<std::vector<V> const*, 2> const sets{&corner, &long_corner};
+    for (auto const* planes : sets)
+      for (V const& edge : {V{m, m, -m}, V{m, -m, -m}, V{-m, m, -m}, V{-m, -m, m}}) {
+        std::array<T, 3> lambda;
+        auto const r = project_velocity<T>(edge, *planes, lambda);
+        CHECK(plume::none(r.invalid_input));
+        CHECK(plume::all(r.converged));
+        CHECK(plume::all(r.velocity.is_finite()));
+        for (V const& n : *planes) // (the violation tolerance scales with |n|)
+          CHECK(plume::all(n.dot(r.velocity) >= splat<T>(S(-0.005)) * n.length()));
+        for (T const& l : lambda)
+          CHECK(plume::all(plume::is_finite(l) & (l >= zero<T>())));
+        auto const b = project_velocity_bruteforce(edge, *planes);
+        CHECK(plume::none(b.invalid_input));
+        CHECK(plume::all(b.velocity.is_finite()));
+      }
   }
   SECTION("out of steps: zero velocity, not converged") {
     GVelocityProjectionConfig<S> cfg;
