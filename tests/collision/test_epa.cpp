@@ -363,6 +363,20 @@ std::vector<Vec3> corner_cloud(std::mt19937& rng, int n, std::size_t twin, Vec3 
   p.push_back(p[twin] + nudge);
   return p;
 }
+
+/// The fuzz findings' cylinder (half height 0.854, radius 1.19) and `hull` at one turned
+/// pose: converged, the depth of the untransformed pair within 1e-4, and the points depth x
+/// normal apart within 1e-4.
+void check_turned_pair(ConvexHull const& hull) {
+  Cylinder const cyl{0x1.b551b6p-1f, 0x1.31b1b2p+0f};
+  Iso3 const turned{Quat{-0.5f, -0.5f, -0.5f, -0.5f}, Vec3{-4, -4, -4}};
+  PenetrationResult const ref = penetration(cyl, Iso3{}, hull, Iso3{});
+  REQUIRE(ref.status == PenetrationStatus::penetrating);
+  PenetrationResult const r = penetration(cyl, turned, hull, turned);
+  REQUIRE(r.status == PenetrationStatus::penetrating);
+  CHECK(r.depth == Approx(ref.depth).margin(1e-4));
+  CHECK(((r.point_b - r.point_a) + r.normal * r.depth).length() <= 1e-4f);
+}
 } // namespace
 
 TEST_CASE("penetration: no face of the grown polytope comes nearer than the nearest face",
@@ -379,15 +393,7 @@ TEST_CASE("penetration: no face of the grown polytope comes nearer than the near
                               {0x1.c6a2c8p-1f, 0x1.c6c6c8p-1f, -0x1.7e79fep+0f},
                               {-0x1.8p+0f, -0x1.8p+0f, -0x1.8p+0f},
                               {-0x1.7ffdp+0f, -0x1.8p+0f, -0x1.8p+0f}};
-  ConvexHull const hull = hull_of(pts);
-  Cylinder const cyl{0x1.b551b6p-1f, 0x1.31b1b2p+0f};
-  Iso3 const turned{Quat{-0.5f, -0.5f, -0.5f, -0.5f}, Vec3{-4, -4, -4}};
-  PenetrationResult const ref = penetration(cyl, Iso3{}, hull, Iso3{});
-  REQUIRE(ref.status == PenetrationStatus::penetrating);
-  PenetrationResult const r = penetration(cyl, turned, hull, turned);
-  CHECK(r.status == PenetrationStatus::penetrating);
-  CHECK(r.depth == Approx(ref.depth).margin(1e-4));
-  CHECK(((r.point_b - r.point_a) - r.normal * -r.depth).length() <= 1e-4f);
+  check_turned_pair(hull_of(pts));
 
   // The same kind of pair (hulls with cube corners and a near-duplicate vertex, cylinders, at
   // one centre or nearly) over shared poses (quarter turns, where supports' coordinates tie,
@@ -535,15 +541,7 @@ TEST_CASE("penetration: the origin projecting past a sliver face's short edge re
                               {0x1.c6c6c8p-1f, -0x1.7e79fep+0f, -0x1.8p+0f},
                               {-0x1.8p+0f, -0x1.8p+0f, -0x1.7ffdp+0f},
                               {-0x1.8p+0f, -0x1.8p+0f, -0x1.8p+0f}};
-  ConvexHull const hull = hull_of(pts);
-  Cylinder const cyl{0x1.b551b6p-1f, 0x1.31b1b2p+0f};
-  Iso3 const turned{Quat{-0.5f, -0.5f, -0.5f, -0.5f}, Vec3{-4, -4, -4}};
-  PenetrationResult const ref = penetration(cyl, Iso3{}, hull, Iso3{});
-  REQUIRE(ref.status == PenetrationStatus::penetrating);
-  PenetrationResult const r = penetration(cyl, turned, hull, turned);
-  REQUIRE(r.status == PenetrationStatus::penetrating);
-  CHECK(r.depth == Approx(ref.depth).margin(1e-4));
-  CHECK(((r.point_b - r.point_a) + r.normal * r.depth).length() <= 1e-4f);
+  check_turned_pair(hull_of(pts));
 
   // Cylinder-hull pairs under shared poses (as the test of sideways faces draws them): the
   // points depth x normal apart within 1e-4 of the coordinates in play. Before: one of the
