@@ -485,8 +485,8 @@ std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly, Diff cons
   }
   if (!inside(l)) {
     // No face of that plane holds it, where the rounding of a sliver face (a short edge beside
-    // long ones) left bf nearest though the origin projects beyond its short edge (2.8e-3
-    // beyond, depth 1.41): a live neighbour of nearly bf's orientation (within 2.6 degrees)
+    // long ones) left bf nearest though the origin projects beyond its short edge: a live
+    // neighbour of nearly bf's orientation (within 2.6 degrees)
     // within 4 `slack` of its distance is as near within a few convergence tolerances (a
     // converged depth lies between bf's distance and that plus the tolerance), and the
     // nearest of those whose own projection it holds is reported instead (its normal,
@@ -511,9 +511,9 @@ std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly, Diff cons
     // the projection misses by rounding): negative weights would extrapolate the points off
     // the shapes, so the weights are those of the face's point nearest the projection, which
     // keeps each point a convex combination of its shape's support points (on the shape) and
-    // moves their difference only by the projection's distance from the face. (Dropping the
-    // negative weights and renormalising moved it by that distance times the face's aspect
-    // ratio: 0.015 for a sliver face 6.5e-5 deep.)
+    // moves their difference only by the projection's distance from the face (dropping the
+    // negative weights and renormalising would move it by that times the face's aspect
+    // ratio).
     l = nearest_face_weights(poly, bf, q);
   }
   auto const& v0 = poly.vert[std::size_t(f.v[0])];

@@ -77,11 +77,9 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
 
   // Edges {w, i}: t = -y0 . e / e . e with e = y_i - y0, valid for 0 < t < 1. v = y0 + t e
   // is then taken once more off e: where the edge passes near the origin with its ends far
-  // away, the sum cancels to |v| with an error of the ends' rounding, which turns v off the
-  // perpendicular (1.7e-4 rad for an edge of length 3.8 passing 4.3e-4 from the origin) and
-  // makes the supports along -v favour the edge's own ends: GJK stopped there, "converged",
-  // 40 times too far (fuzz finding gjk_distance regress-edge-v-off-perpendicular). The second
-  // projection removes that part (its own rounding is eps |v|).
+  // away, the sum cancels to |v| with the ends' rounding, which turns v off the perpendicular
+  // and makes the supports along -v favour the edge's own ends (a GJK query then stops early,
+  // far from the distance). The second projection leaves an error of eps |v| along e.
   for (std::size_t i = 0; i < 3; ++i) {
     GVec3<T> e = y[i] - y0;
     T ee = e.dot(e);
