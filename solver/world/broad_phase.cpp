@@ -100,7 +100,7 @@ void BvhBroadPhase::update_candidates() {
         consider(std::uint32_t(statics.user(p)));
         return true;
       });
-    for (ProxyKind kind : {ProxyKind::kinematic, ProxyKind::dynamic}) {
+    for (ProxyKind kind : {ProxyKind::kinematic, ProxyKind::dynamic, ProxyKind::standalone}) {
       if (!all && kind != ProxyKind::dynamic) continue;
       AabbTree const& t = trees_[std::size_t(kind)];
       t.query(box, [&](ProxyId p) {
@@ -133,7 +133,7 @@ void BvhBroadPhase::refresh_static() {
 
 void BvhBroadPhase::optimize() {
   refresh_static();
-  for (ProxyKind kind : {ProxyKind::kinematic, ProxyKind::dynamic})
+  for (ProxyKind kind : {ProxyKind::kinematic, ProxyKind::dynamic, ProxyKind::standalone})
     last_[std::size_t(kind)] = trees_[std::size_t(kind)].optimize(TreeOptimization::adaptive);
 }
 

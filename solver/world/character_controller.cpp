@@ -159,7 +159,7 @@ bool CharacterController::overlaps(World const& world, BodyShape const& shape, V
   bool found = false;
   world.contact_query(
       shape, pose_at(position), 0.0f,
-      [&](BodyId, Manifold const& m) {
+      [&](ColliderId, Manifold const& m) {
         for (auto const& c : m)
           if (c.separation < -max_penetration) found = true;
         return !found;
@@ -189,7 +189,7 @@ void CharacterController::destroy(World& world) {
   proxy_ = BodyId{};
 }
 
-std::optional<Vec3> CharacterController::surface_normal(World const& world, BodyId body,
+std::optional<Vec3> CharacterController::surface_normal(World const& world, ColliderId collider,
                                                         Vec3 const& point, Vec3 const& p) const {
   // Short rays down just beside the contact point, toward the character's axis and away from
   // it: on an edge, one of them meets the face the edge bounds.
@@ -200,7 +200,7 @@ std::optional<Vec3> CharacterController::surface_normal(World const& world, Body
   toward = toward / len;
   float const probe = 2.0f * cfg_.move.skin;
   QueryFilter f;
-  f.predicate = [body](BodyId id) { return id == body; };
+  f.predicate = [collider](ColliderId id) { return id == collider; };
   for (float side : {1.0f, -1.0f}) {
     std::optional<WorldRayHit> const hit =
         world.ray_cast(Ray3{point + toward * (side * probe) + up * probe, -up}, 2.0f * probe, f);
@@ -214,14 +214,14 @@ CharacterGround CharacterController::find_ground(World const& world, Vec3 const&
   QueryFilter const f = own_filter();
   Vec3 const up = cfg_.up;
   // The flattest walkable contact; else the flattest upward-facing one; else any.
-  MoveContact<BodyId> walk{}, steep{}, any{};
+  MoveContact<ColliderId> walk{}, steep{}, any{};
   bool has_walk = false, has_steep = false, has_any = false;
   float walk_up = -2.0f, steep_up = -2.0f;
   Vec3 steep_sum{};
   int steep_count = 0;
   scene.contacts(cfg_.shape, pose_at(p), cfg_.move.skin + cfg_.ground_tolerance, f,
-                 [&](MoveContact<BodyId> const& found) {
-                   MoveContact<BodyId> c = found;
+                 [&](MoveContact<ColliderId> const& found) {
+                   MoveContact<ColliderId> c = found;
                    float u = c.normal.dot(up);
                    // Resting on a ledge's edge, the contact's normal tilts with the shape's
                    // rounding: the face under the edge is what holds the character, and what
@@ -250,7 +250,7 @@ CharacterGround CharacterController::find_ground(World const& world, Vec3 const&
                    return true;
                  });
   CharacterGround g;
-  MoveContact<BodyId> const* from = nullptr;
+  MoveContact<ColliderId> const* from = nullptr;
   if (has_walk) {
     g.state = GroundState::on_ground;
     from = &walk;
@@ -261,11 +261,12 @@ CharacterGround CharacterController::find_ground(World const& world, Vec3 const&
     float const len = steep_sum.length();
     if (steep_count >= 2 && len > 0.0f && walkable(steep_sum / len)) {
       g.state = GroundState::on_ground;
-      g.body = steep.collider;
+      g.collider = steep.collider;
+      g.body = g.collider.body();
       g.point = steep.point;
       g.normal = steep_sum / len;
       g.separation = steep.separation;
-      g.velocity = world.velocity_at(g.body, g.point);
+      g.velocity = g.body.valid() ? world.velocity_at(g.body, g.point) : Vec3{};
       return g;
     }
   } else if (has_any) {
@@ -273,11 +274,12 @@ CharacterGround CharacterController::find_ground(World const& world, Vec3 const&
     from = &any;
   }
   if (from) {
-    g.body = from->collider;
+    g.collider = from->collider;
+    g.body = g.collider.body();
     g.point = from->point;
     g.normal = from->normal;
     g.separation = from->separation;
-    g.velocity = world.velocity_at(g.body, g.point);
+    g.velocity = g.body.valid() ? world.velocity_at(g.body, g.point) : Vec3{};
   }
   return g;
 }
@@ -306,7 +308,7 @@ void CharacterController::carry(World& world, WorldMoveQuery const& scene) {
   BodyId const exclude[2] = {proxy_, ground_.body};
   QueryFilter const f = filter(proxy_.valid() ? std::span<BodyId const>(exclude)
                                               : std::span<BodyId const>(exclude + 1, 1));
-  MoveAndSlideResult<BodyId> const r =
+  MoveAndSlideResult<ColliderId> const r =
       move_and_slide(scene, cfg_.shape, pose_at(position_), motion, 1.0f, cfg_.move, f);
   if (r.invalid_input) return;
   position_ = r.position;
@@ -320,25 +322,25 @@ bool CharacterController::walk_stairs(WorldMoveQuery const& scene, Vec3 const& f
   if (!(fwd_len > 0.0f)) return false;
   Vec3 const dir = forward / fwd_len;
   // Up, as far as the ceiling lets it.
-  CastMove<BodyId> const rise =
+  CastMove<ColliderId> const rise =
       cast_move(scene, cfg_.shape, pose_at(position_), up * cfg_.step_height, cfg_.move, f);
   if (!(rise.safe > 0.0f)) return false;
   Vec3 const high = position_ + up * rise.safe;
   // Forward on the raised level: a step too high stops this at once.
   float const want = std::max(fwd_len, cfg_.min_step_forward);
-  CastMove<BodyId> const ahead =
+  CastMove<ColliderId> const ahead =
       cast_move(scene, cfg_.shape, pose_at(high), dir * want, cfg_.move, f);
   if (!(ahead.safe >= 0.5f * cfg_.min_step_forward)) return false;
   Vec3 const fwd = high + dir * ahead.safe;
   // Down onto the ledge: it must be there (no stepping over a gap) and walkable.
-  CastMove<BodyId> const land =
+  CastMove<ColliderId> const land =
       cast_move(scene, cfg_.shape, pose_at(fwd), -up * rise.safe, cfg_.move, f);
   if (!land.hit) return false;
-  MoveCastHit<BodyId> ledge = *land.hit;
+  MoveCastHit<ColliderId> ledge = *land.hit;
   if (!walkable(ledge.normal)) {
     // The landing may be the ledge's rounded edge: probe further on.
     Vec3 const probe = fwd + dir * cfg_.step_forward_test;
-    CastMove<BodyId> const on =
+    CastMove<ColliderId> const on =
         cast_move(scene, cfg_.shape, pose_at(probe), -up * rise.safe, cfg_.move, f);
     if (!on.hit || !walkable(on.hit->normal)) return false;
     ledge = *on.hit;
@@ -356,7 +358,7 @@ bool CharacterController::walk_stairs(WorldMoveQuery const& scene, Vec3 const& f
 bool CharacterController::stick(World const& world, WorldMoveQuery const& scene) {
   QueryFilter const f = own_filter();
   Vec3 const down = -cfg_.up * cfg_.stick_to_floor;
-  CastMove<BodyId> const cast =
+  CastMove<ColliderId> const cast =
       cast_move(scene, cfg_.shape, pose_at(position_), down, cfg_.move, f);
   if (!cast.hit) return false; // nothing within reach: it falls
   Vec3 const landed = position_ - cfg_.up * cast.safe;
@@ -370,11 +372,12 @@ bool CharacterController::stick(World const& world, WorldMoveQuery const& scene)
   float const side_len = side.length();
   if (!(side_len > 0.0f)) return false;
   side = side * (2.0f * cfg_.move.skin / side_len);
-  CastMove<BodyId> const clear =
+  CastMove<ColliderId> const clear =
       cast_move(scene, cfg_.shape, pose_at(position_), side, cfg_.move, f);
   if (clear.hit) return false;
   Vec3 const beside = position_ + side;
-  CastMove<BodyId> const again = cast_move(scene, cfg_.shape, pose_at(beside), down, cfg_.move, f);
+  CastMove<ColliderId> const again =
+      cast_move(scene, cfg_.shape, pose_at(beside), down, cfg_.move, f);
   if (!again.hit) return false;
   Vec3 const low = beside - cfg_.up * again.safe;
   if (find_ground(world, low).state != GroundState::on_ground) return false;
@@ -386,15 +389,16 @@ void CharacterController::push(World& world, float dt, Vec3 const& frame_velocit
   // The strongest push per dynamic body walked into (ground contacts excluded: the weight
   // below pushes those). Hits carry the velocity relative to the ground: the approach is
   // measured in the world (frame_velocity: the ground's, when the move was on it).
-  for (MoveHit<BodyId> const& h : touched_) {
-    if (walkable(h.normal) || !world.is_alive(h.collider)) continue;
+  for (MoveHit<ColliderId> const& h : touched_) {
+    BodyId const body = h.collider.body(); // touched_ holds dynamic bodies' colliders only
+    if (walkable(h.normal) || !world.is_alive(body)) continue;
     float const approach =
-        (world.velocity_at(h.collider, h.point) - (h.velocity + frame_velocity)).dot(h.normal);
+        (world.velocity_at(body, h.point) - (h.velocity + frame_velocity)).dot(h.normal);
     if (!(approach > 0.0f)) continue;
     float const j = std::min(cfg_.mass * approach, cfg_.max_strength * dt);
-    CharacterPush const p{h.collider, -h.normal * j, h.point};
+    CharacterPush const p{body, -h.normal * j, h.point};
     auto same = std::find_if(pushes_.begin(), pushes_.end(),
-                             [&](CharacterPush const& q) { return q.body == h.collider; });
+                             [&](CharacterPush const& q) { return q.body == body; });
     if (same == pushes_.end())
       pushes_.push_back(p);
     else if (p.impulse.length_squared() > same->impulse.length_squared())
@@ -450,7 +454,7 @@ CharacterUpdate const& CharacterController::update(World& world, float dt) {
   float const along_len = along.length();
   float const cos_contact = std::cos(cfg_.step_contact_angle);
   Vec3 const before = position_;
-  auto on_hit = [&](MoveHit<BodyId>& h) {
+  auto on_hit = [&](MoveHit<ColliderId>& h) {
     float const u = h.normal.dot(up);
     if (u < cos_slope_) {
       Vec3 const wall = horizontal(h.normal, up);
@@ -463,11 +467,13 @@ CharacterUpdate const& CharacterController::update(World& world, float dt) {
           -(wall / wl).dot(along / along_len) >= cos_contact)
         blocked = true;
     }
-    if (h.touching && world.type(h.collider) == BodyType::dynamic) touched_.push_back(h);
+    if (h.touching && world.is_alive(h.collider.body()) &&
+        world.type(h.collider.body()) == BodyType::dynamic)
+      touched_.push_back(h);
     return HitResponse::accept;
   };
   last_.move = move_and_slide(scene, cfg_.shape, pose_at(position_), v, dt, cfg_.move, f, on_hit);
-  MoveAndSlideResult<BodyId> const& r = last_.move;
+  MoveAndSlideResult<ColliderId> const& r = last_.move;
   position_ = r.position;
   if (bool(r.velocity.is_finite())) velocity_ = r.velocity;
   // Walking, what the move rolled up (an edge) is not kept: fed back, it would launch.

@@ -88,8 +88,10 @@ void World::sync_trees() const {
   }
   stale_moving_.clear();
   all_moving_stale_ = false;
-  for (std::uint32_t i : stale_statics_) // every new or teleported static body
-    if (bodies_[i].alive) bvh_.set_box(i, grown_aabb(i), ProxyKind::static_body);
+  for (std::uint32_t i : stale_statics_) // every new or teleported static body or collider
+    if (bodies_[i].alive)
+      bvh_.set_box(i, grown_aabb(i),
+                   bodies_[i].standalone ? ProxyKind::standalone : ProxyKind::static_body);
   stale_statics_.clear();
   // Sort and sweep never asks the trees for pairs: keep their quality here. The BVH broad
   // phase optimises the trees in the step; until then, after static edits, queries walk the
@@ -102,8 +104,9 @@ bool World::passes(std::uint32_t i, QueryFilter const& filter) const {
   if ((bodies_[i].layers.memberships & filter.mask) == 0) return false;
   if (!filter.sensors && bodies_[i].sensor) return false;
   for (BodyId const e : filter.exclude) // a stale id excludes nothing (not the slot's new body)
-    if (e.index == i && e.generation == bodies_[i].generation) return false;
-  return !filter.predicate || filter.predicate(BodyId{i, bodies_[i].generation});
+    if (e.index == i && e.generation == bodies_[i].generation && !bodies_[i].standalone)
+      return false;
+  return !filter.predicate || filter.predicate(collider_at(i));
 }
 
 void World::candidates(Aabb3 const& box, QueryFilter const& filter,
@@ -166,7 +169,7 @@ void World::ray_cast_all(Ray3 const& ray, float max_toi,
     if (!passes(i, filter)) return;
     Body const& b = bodies_[i];
     RayHit const h = cast_ray(b.shape, b.pose, ray, limit);
-    if (h.hit) hits.push_back({BodyId{i, bodies_[i].generation}, h.toi, ray.at(h.toi), h.normal});
+    if (h.hit) hits.push_back(ray_hit(i, h.toi, ray.at(h.toi), h.normal));
   };
   for (AabbTree const* tree : bvh_.trees()) {
     auto const visit = [&](ProxyId p, float) {
@@ -181,7 +184,7 @@ void World::ray_cast_all(Ray3 const& ray, float max_toi,
   for (std::uint32_t i : bvh_.unbounded())
     test(i);
   std::sort(hits.begin(), hits.end(), [](WorldRayHit const& a, WorldRayHit const& b) {
-    return a.toi < b.toi || (a.toi == b.toi && a.body.index < b.body.index);
+    return a.toi < b.toi || (a.toi == b.toi && a.collider.index < b.collider.index);
   });
   for (WorldRayHit const& h : hits)
     if (!f(h)) return;
@@ -198,8 +201,8 @@ std::optional<WorldRayHit> World::ray_cast(Ray3 const& ray, float max_toi,
     Body const& b = bodies_[i];
     RayHit const h = cast_ray(b.shape, b.pose, ray, limit);
     if (!h.hit || h.toi > limit) return;
-    if (best && !nearer(h.toi, i, best->toi, best->body.index)) return;
-    best = WorldRayHit{BodyId{i, bodies_[i].generation}, h.toi, ray.at(h.toi), h.normal};
+    if (best && !nearer(h.toi, i, best->toi, best->collider.index)) return;
+    best = ray_hit(i, h.toi, ray.at(h.toi), h.normal);
     limit = h.toi;
   };
   // Closest first: each tree's traversal skips boxes entered beyond the best toi so far.
@@ -365,8 +368,7 @@ void World::ray_cast_with(std::span<Ray3 const> rays, float max_toi,
       if (best_body[k] == ~std::uint32_t(0)) continue;
       Ray3 const& ray = rays[first + k];
       std::uint32_t const i = best_body[k];
-      o = WorldRayHit{BodyId{i, bodies_[i].generation}, best_toi[k], ray.at(best_toi[k]),
-                      best_normal[k]};
+      o = ray_hit(i, best_toi[k], ray.at(best_toi[k]), best_normal[k]);
     }
   }
 }
@@ -494,7 +496,8 @@ std::optional<WorldShapeHit> World::shape_cast(BodyShape const& shape, Iso3 cons
       Body const& b = bodies_[i];
       auto h = cast_against_body(b.shape, b.pose, q, pose, motion, cfg);
       if (!h) continue;
-      h->body = BodyId{i, bodies_[i].generation};
+      h->collider = collider_at(i);
+      h->body = h->collider.body();
       if (!best || h->toi < best->toi) best = h; // ties: the lower index, visited first
     }
     return best;
@@ -583,9 +586,10 @@ void World::shape_cast_with(std::span<BodyShape const> shapes, std::span<Iso3 co
               for (; g < lane_of.size() && lane_of[g].first == i; ++g)
                 lanes |= std::uint64_t(1) << lane_of[g].second;
               Body const& b = bodies_[i];
-              BodyId const id{i, b.generation};
+              ColliderId const id = collider_at(i);
               auto const offer = [&](std::size_t k, WorldShapeHit h) {
-                h.body = id;
+                h.collider = id;
+                h.body = id.body();
                 auto& best = out[first + k];
                 if (!best || h.toi < best->toi) best = h; // ties: the lower index, first
               };
@@ -632,12 +636,12 @@ void World::shape_cast_with(std::span<BodyShape const> shapes, std::span<Iso3 co
       ShapeCastConfig const&, std::span<std::optional<WorldShapeHit>>, QueryFilter const&) const;
 PLUME_FOR_EACH_F32_TYPE(PLUME_INSTANTIATE_SHAPES)
 
-void World::overlap_aabb(Aabb3 const& box, std::function<bool(BodyId)> const& f,
+void World::overlap_aabb(Aabb3 const& box, std::function<bool(ColliderId)> const& f,
                          QueryFilter const& filter) const {
   std::vector<std::uint32_t> near;
   candidates(box, filter, near);
   for (std::uint32_t i : near)
-    if (!f(BodyId{i, bodies_[i].generation})) return;
+    if (!f(collider_at(i))) return;
 }
 
 namespace {
@@ -678,22 +682,21 @@ bool World::shapes_touch(std::uint32_t a, std::uint32_t b) const {
 }
 
 void World::overlap_shape(BodyShape const& shape, Iso3 const& pose,
-                          std::function<bool(BodyId)> const& f, QueryFilter const& filter) const {
+                          std::function<bool(ColliderId)> const& f,
+                          QueryFilter const& filter) const {
   if (!pose.is_finite()) return;
   with_convex(shape, [&](auto const& q, bool convex) {
     if (!convex) return 0;
     std::vector<std::uint32_t> near;
     candidates(q.aabb(pose), filter, near);
     for (std::uint32_t i : near)
-      if (touches(q, pose, bodies_[i].shape, bodies_[i].pose) &&
-          !f(BodyId{i, bodies_[i].generation}))
-        break;
+      if (touches(q, pose, bodies_[i].shape, bodies_[i].pose) && !f(collider_at(i))) break;
     return 0;
   });
 }
 
 void World::contact_query(BodyShape const& shape, Iso3 const& pose, float distance,
-                          std::function<bool(BodyId, Manifold const&)> const& f,
+                          std::function<bool(ColliderId, Manifold const&)> const& f,
                           QueryFilter const& filter) const {
   if (!pose.is_finite() || !(distance >= 0.0f) || !std::isfinite(distance) ||
       !is_convex_shape(shape))
@@ -710,21 +713,19 @@ void World::contact_query(BodyShape const& shape, Iso3 const& pose, float distan
     for (int k = 0; k < n; ++k) {
       Manifold const& m = ms[std::size_t(k)];
       if (m.empty() || m.failed) continue;
-      if (!f(BodyId{i, bodies_[i].generation}, m)) return;
+      if (!f(collider_at(i), m)) return;
     }
   }
 }
 
-void World::point_query(Vec3 const& point, std::function<bool(BodyId)> const& f,
+void World::point_query(Vec3 const& point, std::function<bool(ColliderId)> const& f,
                         QueryFilter const& filter) const {
   if (!bool(point.is_finite())) return;
   std::vector<std::uint32_t> near;
   candidates({point, point}, filter, near);
   Iso3 const at = Iso3::from_translation(point);
   for (std::uint32_t i : near)
-    if (touches(Sphere{0.0f}, at, bodies_[i].shape, bodies_[i].pose) &&
-        !f(BodyId{i, bodies_[i].generation}))
-      return;
+    if (touches(Sphere{0.0f}, at, bodies_[i].shape, bodies_[i].pose) && !f(collider_at(i))) return;
 }
 
 std::optional<WorldPointHit> World::project_point(Vec3 const& point, float max_distance,
@@ -737,7 +738,7 @@ std::optional<WorldPointHit> World::project_point(Vec3 const& point, float max_d
   std::optional<WorldPointHit> best;
   for (std::uint32_t i : near) {
     Body const& b = bodies_[i];
-    WorldPointHit h{BodyId{i, bodies_[i].generation}};
+    WorldPointHit h{collider_at(i).body(), 0.0f, {}, collider_at(i)};
     if (auto const* hs = std::get_if<HalfSpace>(&b.shape)) {
       WorldPlane const plane = world_plane(*hs, b.pose);
       float const d = plane.height(point);

@@ -69,7 +69,7 @@ int detail::collide(BodyShape const& a, Iso3 const& pa, BodyShape const& b, Iso3
 Aabb3 World::grown_aabb(std::uint32_t i) const {
   if (!bodies_[i].alive) return Aabb3{}; // EMPTY: overlaps nothing
   float const margin = config_.speculative_distance;
-  Aabb3 const box = aabb(BodyId{i, bodies_[i].generation});
+  Aabb3 const box = aabb(collider_at(i));
   return {box.min - Vec3::splat(margin), box.max + Vec3::splat(margin)};
 }
 
@@ -103,16 +103,15 @@ void World::split_sensor_pairs() {
     pairs_.erase(std::remove_if(pairs_.begin(), pairs_.end(), is_sensor_pair), pairs_.end());
 }
 
-BodyPair World::pair_ids(std::uint64_t key) const {
-  std::uint32_t const a = body_pair_first(key), b = body_pair_second(key);
-  return {BodyId{a, bodies_[a].generation}, BodyId{b, bodies_[b].generation}};
+ColliderPair World::pair_ids(std::uint64_t key) const {
+  return {collider_at(body_pair_first(key)), collider_at(body_pair_second(key))};
 }
 
 /// This step's events: the contact pairs and sensor overlaps against the last step's.
 void World::update_events() {
   auto const diff = [&](std::vector<std::uint64_t> const& before,
-                        std::vector<std::uint64_t> const& now, std::vector<BodyPair>& begun,
-                        std::vector<BodyPair>& ended) {
+                        std::vector<std::uint64_t> const& now, std::vector<ColliderPair>& begun,
+                        std::vector<ColliderPair>& ended) {
     std::size_t i = 0, j = 0;
     while (i < before.size() || j < now.size()) {
       if (j == now.size() || (i < before.size() && before[i] < now[j]))
@@ -136,7 +135,7 @@ void World::update_events() {
     if (shapes_touch(body_pair_first(k), body_pair_second(k))) sensor_now_.push_back(k);
   diff(sensor_before, sensor_now_, events_.sensor_begin, events_.sensor_end);
   // destroy_body's ends (already in events_) may interleave: keep each list in pair order.
-  auto const by_pair = [](BodyPair const& x, BodyPair const& y) {
+  auto const by_pair = [](ColliderPair const& x, ColliderPair const& y) {
     return body_pair_key(x.a.index, x.b.index) < body_pair_key(y.a.index, y.b.index);
   };
   std::stable_sort(events_.contact_end.begin(), events_.contact_end.end(), by_pair);

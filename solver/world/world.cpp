@@ -6,6 +6,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <type_traits>
@@ -72,6 +73,26 @@ float shape_min_extent(BodyShape const& shape, Vec3 const& c) {
       shape);
 }
 
+/// The pose with its rotation normalised; none when it is not finite or its rotation has no
+/// finite non-zero length.
+std::optional<Iso3> normalised(Iso3 const& pose) {
+  float const qlen = pose.rotation.length();
+  if (!pose.is_finite() || !(qlen > 0.0f) || !std::isfinite(qlen)) return std::nullopt;
+  return Iso3{pose.rotation * (1.0f / qlen), pose.translation};
+}
+
+/// Whether the shape is a mesh or height field (no_source: without triangles).
+bool triangle_shape(BodyShape const& shape, bool no_source = false) {
+  return std::visit(
+      [&](auto const& s) {
+        if constexpr (is_triangle_shape_v<std::decay_t<decltype(s)>>)
+          return !no_source || s.source() == nullptr || s.source()->empty();
+        else
+          return false;
+      },
+      shape);
+}
+
 Aabb3 shape_aabb(BodyShape const& shape, Iso3 const& pose) {
   return std::visit([&](auto const& s) { return s.aabb(pose); }, shape);
 }
@@ -107,9 +128,7 @@ BodyError World::set_type(BodyId id, BodyType type) {
   Body& b = bodies_[i];
   if (b.type == type && !b.frozen) return BodyError::none;
   if (type == BodyType::dynamic) {
-    bool const triangles = std::visit(
-        [](auto const& s) { return is_triangle_shape_v<std::decay_t<decltype(s)>>; }, b.shape);
-    if (triangles) return BodyError::bad_shape;
+    if (triangle_shape(b.shape)) return BodyError::bad_shape;
     Body probe = b;
     if (!give_mass(probe)) return BodyError::zero_mass;
     b = std::move(probe);
@@ -162,21 +181,15 @@ CreateBodyResult World::create_body(BodyDef const& def) {
   if (def.density < 0.0f || def.friction < 0.0f || def.restitution < 0.0f ||
       def.linear_damping < 0.0f || def.angular_damping < 0.0f)
     return {{}, BodyError::bad_material};
-  bool const bad_triangles = std::visit(
-      [&](auto const& s) {
-        if constexpr (is_triangle_shape_v<std::decay_t<decltype(s)>>)
-          return s.source() == nullptr || s.source()->empty() || def.type == BodyType::dynamic;
-        else
-          return false;
-      },
-      def.shape);
-  if (bad_triangles) return {{}, BodyError::bad_shape};
-  float const qlen = def.pose.rotation.length();
-  if (!(qlen > 0.0f) || !std::isfinite(qlen)) return {{}, BodyError::non_finite};
+  if (triangle_shape(def.shape, true) ||
+      (def.type == BodyType::dynamic && triangle_shape(def.shape)))
+    return {{}, BodyError::bad_shape};
+  std::optional<Iso3> const pose = normalised(def.pose);
+  if (!pose) return {{}, BodyError::non_finite};
 
   Body b;
   b.type = def.type;
-  b.pose = {def.pose.rotation * (1.0f / qlen), def.pose.translation};
+  b.pose = *pose;
   b.shape = def.shape;
   b.friction = def.friction;
   b.restitution = def.restitution;
@@ -195,20 +208,8 @@ CreateBodyResult World::create_body(BodyDef const& def) {
     s.linear_velocity = def.linear_velocity;
     s.angular_velocity = def.angular_velocity;
   }
-  BodyId id;
-  if (!free_slots_.empty()) { // the last freed slot, at its next generation
-    id = {free_slots_.back(), bodies_[free_slots_.back()].generation};
-    free_slots_.pop_back();
-    b.generation = id.generation;
-    bodies_[id.index] = std::move(b);
-    states_[id.index] = s;
-  } else {
-    id = {std::uint32_t(bodies_.size()), 0};
-    bodies_.push_back(std::move(b));
-    states_.back() = s;
-    states_.push_back(BodyState{}); // the identity record moves up one
-    cache_.reserve_bodies(bodies_.size());
-  }
+  std::uint32_t const index = take_slot(std::move(b), s);
+  BodyId const id{index, bodies_[index].generation};
   if (bodies_[id.index].type == BodyType::static_body) {
     stale_statics_.push_back(id.index);
   } else { // kept in index order: the step visits moving bodies in it
@@ -220,6 +221,94 @@ CreateBodyResult World::create_body(BodyDef const& def) {
   return {id, BodyError::none};
 }
 
+std::uint32_t World::take_slot(Body&& b, BodyState const& s) {
+  if (!free_slots_.empty()) { // the last freed slot, at its next generation
+    std::uint32_t const i = free_slots_.back();
+    free_slots_.pop_back();
+    b.generation = bodies_[i].generation;
+    bodies_[i] = std::move(b);
+    states_[i] = s;
+    return i;
+  }
+  auto const i = std::uint32_t(bodies_.size());
+  b.generation = 0;
+  bodies_.push_back(std::move(b));
+  states_.back() = s;
+  states_.push_back(BodyState{}); // the identity record moves up one
+  cache_.reserve_bodies(bodies_.size());
+  return i;
+}
+
+CreateColliderResult World::create_collider(ColliderDef const& def) {
+  if (!def.pose.is_finite() || !finite(def.friction) || !finite(def.restitution))
+    return {{}, BodyError::non_finite};
+  if (def.friction < 0.0f || def.restitution < 0.0f) return {{}, BodyError::bad_material};
+  if (triangle_shape(def.shape, true)) return {{}, BodyError::bad_shape};
+  std::optional<Iso3> const pose = normalised(def.pose);
+  if (!pose) return {{}, BodyError::non_finite};
+  Body b;
+  b.type = BodyType::static_body;
+  b.standalone = true;
+  b.pose = *pose;
+  b.center = b.pose.translation;
+  b.shape = def.shape;
+  b.friction = def.friction;
+  b.restitution = def.restitution;
+  b.layers = def.layers;
+  b.sensor = def.sensor;
+  std::uint32_t const i = take_slot(std::move(b), BodyState{});
+  ++standalone_count_;
+  stale_statics_.push_back(i); // filed in the standalone tree at the next sync
+  trees_synced_ = false;
+  return {collider_at(i), BodyError::none};
+}
+
+BodyError World::destroy_collider(ColliderId id) {
+  if (!is_alive(id) || !id.standalone) return BodyError::bad_body;
+  release_slot(id.index);
+  --standalone_count_;
+  return BodyError::none;
+}
+
+World::Body const& World::slot(ColliderId id) const {
+  if (!is_alive(id))
+    throw std::out_of_range("plume::World: the collider id (slot " + std::to_string(id.index) +
+                            ", generation " + std::to_string(id.generation) +
+                            (id.standalone ? ", standalone" : ", a body's") +
+                            ") names no live collider (never created, or destroyed)");
+  return bodies_[id.index];
+}
+
+ColliderId World::collider_id(std::uint32_t index) const {
+  if (index >= bodies_.size() || !bodies_[index].alive)
+    throw std::out_of_range("plume::World::collider_id: slot " + std::to_string(index) +
+                            " holds no live collider");
+  return collider_at(index);
+}
+
+Aabb3 World::aabb(ColliderId id) const {
+  Body const& b = slot(id);
+  return shape_aabb(b.shape, b.pose);
+}
+
+BodyError World::set_collider_pose(ColliderId id, Iso3 const& pose) {
+  if (!is_alive(id) || !id.standalone) return BodyError::bad_body;
+  std::optional<Iso3> const unit = normalised(pose);
+  if (!unit) return BodyError::non_finite;
+  Body& b = bodies_[id.index];
+  b.pose = *unit;
+  b.center = b.pose.translation;
+  stale_statics_.push_back(id.index);
+  trees_synced_ = false;
+  return BodyError::none;
+}
+
+BodyError World::set_collider_layers(ColliderId id, CollisionLayers const& layers) {
+  if (!is_alive(id) || !id.standalone) return BodyError::bad_body;
+  bodies_[id.index].layers = layers;
+  return BodyError::none;
+}
+
 World::Body const& World::body(BodyId id) const {
   if (!is_alive(id))
     throw std::out_of_range("plume::World: the body id (slot " + std::to_string(id.index) +
@@ -229,7 +318,7 @@ World::Body const& World::body(BodyId id) const {
 }
 
 BodyId World::body_id(std::uint32_t index) const {
-  if (index >= bodies_.size() || !bodies_[index].alive)
+  if (index >= bodies_.size() || !bodies_[index].alive || bodies_[index].standalone)
     throw std::out_of_range("plume::World::body_id: slot " + std::to_string(index) +
                             " holds no live body");
   return {index, bodies_[index].generation};
@@ -237,11 +326,16 @@ BodyId World::body_id(std::uint32_t index) const {
 
 BodyError World::destroy_body(BodyId id) {
   if (!is_alive(id)) return BodyError::bad_body;
-  std::uint32_t const i = id.index;
   for (JointId const j : body_joints(id)) // its joints go first (they hold its colours)
     destroy_joint(j);
+  frozen_.erase(std::remove(frozen_.begin(), frozen_.end(), id), frozen_.end());
+  release_slot(id.index);
+  return BodyError::none;
+}
+
+void World::release_slot(std::uint32_t i) {
   // Its contacts and sensor overlaps end now: the next step reports them.
-  auto const end_pairs = [&](std::vector<std::uint64_t>& keys, std::vector<BodyPair>& ended) {
+  auto const end_pairs = [&](std::vector<std::uint64_t>& keys, std::vector<ColliderPair>& ended) {
     std::erase_if(keys, [&](std::uint64_t k) {
       if (body_pair_first(k) != i && body_pair_second(k) != i) return false;
       ended.push_back(pair_ids(k));
@@ -259,7 +353,6 @@ BodyError World::destroy_body(BodyId id) {
   drop(moving_bodies_);
   drop(stale_statics_);
   drop(stale_moving_);
-  frozen_.erase(std::remove(frozen_.begin(), frozen_.end(), id), frozen_.end());
   Body& b = bodies_[i];
   Body dead;
   dead.alive = false;
@@ -267,7 +360,6 @@ BodyError World::destroy_body(BodyId id) {
   b = std::move(dead);
   states_[i] = BodyState{};
   free_slots_.push_back(i);
-  return BodyError::none;
 }
 
 Aabb3 World::aabb(BodyId id) const {
@@ -277,10 +369,10 @@ Aabb3 World::aabb(BodyId id) const {
 
 BodyError World::set_pose(BodyId id, Iso3 const& pose) {
   if (!is_alive(id)) return BodyError::bad_body;
-  float const qlen = pose.rotation.length();
-  if (!pose.is_finite() || !(qlen > 0.0f) || !std::isfinite(qlen)) return BodyError::non_finite;
+  std::optional<Iso3> const unit = normalised(pose);
+  if (!unit) return BodyError::non_finite;
   Body& b = bodies_[id.index];
-  b.pose = {pose.rotation * (1.0f / qlen), pose.translation};
+  b.pose = *unit;
   b.center = b.pose.transform_point(b.local_center);
   if (b.type == BodyType::static_body)
     stale_statics_.push_back(id.index);

@@ -71,7 +71,7 @@ public:
     Vec3 const p = c.position();
     std::fprintf(file_, "frame,%d,%.6f,%.6f,%.6f,%d,0,0,0\n", frame_, p.x, p.y, p.z,
                  int(c.ground_state()));
-    for (MoveHit<BodyId> const& h : c.last_update().move.accepted())
+    for (MoveHit<ColliderId> const& h : c.last_update().move.accepted())
       std::fprintf(file_, "plane,%d,%.6f,%.6f,%.6f,0,%.6f,%.6f,%.6f\n", frame_, h.point.x,
                    h.point.y, h.point.z, h.normal.x, h.normal.y, h.normal.z);
     ++frame_;
@@ -170,6 +170,48 @@ TEST_CASE("character: lands on a floor, stands still without drift, walks at its
   CHECK(c.position().x - from.x == Approx(4.0f).epsilon(0.01));
   CHECK(std::abs(c.position().y - from.y) < 1e-3f);
   CHECK(c.world_velocity().x == Approx(4.0f).epsilon(1e-3));
+}
+
+TEST_CASE("character: a level of standalone colliders is walked as one of static bodies, "
+          "frame for frame",
+          "[character][controller]") {
+  // A floor, a ramp and a wall, as static bodies in one world and as colliders without bodies
+  // in the other (the same slots): the same walk, bit for bit, and the ground named by its
+  // collider (no body).
+  auto const level = [](bool standalone) {
+    World w;
+    auto const add = [&](Vec3 const& centre, Vec3 const& half, Quat const& rot) {
+      if (standalone)
+        REQUIRE(w.create_collider({.pose = Iso3{rot, centre}, .shape = Cuboid{half}}));
+      else
+        add_box(w, centre, half, rot);
+    };
+    add({0, -0.5f, 0}, {60, 0.5f, 60}, Quat::IDENTITY);
+    Quat const r = Quat::from_rotation_z(20.0f * std::numbers::pi_v<float> / 180.0f);
+    add(Vec3{3, 0, 0} + r * Vec3{4, 0, 0} - r * Vec3{0, 0.5f, 0}, {4, 0.5f, 3}, r);
+    add({-3, 1, 0}, {0.2f, 1, 3}, Quat::IDENTITY);
+    return w;
+  };
+  World a = level(false), b = level(true);
+  REQUIRE(b.collider_count() == 3);
+  CharacterController ca(a, {.position = {0, 1.5f, 0}});
+  CharacterController cb(b, {.position = {0, 1.5f, 0}});
+  for (Vec3 const walk : {Vec3{}, Vec3{3, 0, 0}, Vec3{-6, 0, 0.5f}}) {
+    auto const pa = drive(a, ca, walk, 90);
+    auto const pb = drive(b, cb, walk, 90);
+    for (std::size_t f = 0; f < pa.size(); ++f) {
+      INFO("frame " << f);
+      REQUIRE(same(pa[f].position, pb[f].position));
+      REQUIRE(pa[f].state == pb[f].state);
+    }
+    REQUIRE(cb.on_ground());
+    CHECK(cb.ground().collider.standalone);
+    CHECK(!cb.ground().body.valid());
+    CHECK(cb.ground().collider.index == ca.ground().body.index);
+    CHECK(same(cb.ground().velocity, Vec3{}));
+  }
+  CHECK(cb.position().x < -2.4f); // stopped by the wall (its face at x = -2.8)
+  CHECK(cb.position().x > -2.8f);
 }
 
 TEST_CASE("character: a 30 degree ramp is walked up and stood on without drifting",

@@ -46,9 +46,9 @@ BodyId add_floor(World& w, float y = -1.0f - skin) {
 
 /// A character that asks for the same velocity every frame, as a controller's input would.
 struct Walk {
-  std::vector<Vec3> path;                      // position after each frame
-  std::vector<Vec3> velocity;                  // projected velocity of each frame
-  std::vector<MoveAndSlideResult<BodyId>> log; // every frame's result
+  std::vector<Vec3> path;                          // position after each frame
+  std::vector<Vec3> velocity;                      // projected velocity of each frame
+  std::vector<MoveAndSlideResult<ColliderId>> log; // every frame's result
 };
 
 Walk walk(World const& w, Vec3 start, Vec3 desired, int frames = 100,
@@ -80,7 +80,7 @@ float spread(Walk const& w, int frames = 50) {
 /// The signed gap between the capsule at p and the world's nearest body (negative: overlap).
 float gap(World const& w, Vec3 const& p) {
   float best = std::numeric_limits<float>::infinity();
-  w.contact_query(capsule, Iso3::from_translation(p), 1.0f, [&](BodyId, Manifold const& m) {
+  w.contact_query(capsule, Iso3::from_translation(p), 1.0f, [&](ColliderId, Manifold const& m) {
     best = std::min(best, m.min_separation());
     return true;
   });
@@ -153,7 +153,7 @@ TEST_CASE("move and slide: a second plane from the callback (extra_normal) clips
   // A plane across the slide (normal -z) added at the wall: the slide stops too.
   int added = 0;
   auto const fenced = move_and_slide(scene, capsule, Iso3::from_translation(start), v, dt, {}, {},
-                                     [&](MoveHit<BodyId>& h) {
+                                     [&](MoveHit<ColliderId>& h) {
                                        if (h.kind == MoveHitKind::sweep) {
                                          h.extra_normal = Vec3{0, 0, -1};
                                          ++added;
@@ -167,7 +167,7 @@ TEST_CASE("move and slide: a second plane from the callback (extra_normal) clips
   // A zero or NaN extra normal adds no plane.
   for (Vec3 const extra : {Vec3{}, Vec3{NAN, 0, 0}}) {
     auto const r = move_and_slide(scene, capsule, Iso3::from_translation(start), v, dt, {}, {},
-                                  [&](MoveHit<BodyId>& h) {
+                                  [&](MoveHit<ColliderId>& h) {
                                     h.extra_normal = extra;
                                     return HitResponse::accept;
                                   });
@@ -429,7 +429,7 @@ TEST_CASE("move and slide: dense nearly parallel planes are merged and the move 
   for (int f = 0; f < 60; ++f) {
     std::size_t accepted = 0;
     auto const r = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation(p),
-                                  Vec3{5, 0, 1}, dt, {}, {}, [&](MoveHit<BodyId>&) {
+                                  Vec3{5, 0, 1}, dt, {}, {}, [&](MoveHit<ColliderId>&) {
                                     ++accepted;
                                     return HitResponse::accept;
                                   });
@@ -464,9 +464,9 @@ TEST_CASE("move and slide: the callback sees the collider touched and its change
   BodyId const wall = add_box(w, {3, 0, 0}, {0.5f, 5, 5});
   WorldMoveQuery const scene(w);
   Iso3 const start = Iso3::from_translation({1.9f, 0, 0});
-  std::vector<MoveHit<BodyId>> seen;
+  std::vector<MoveHit<ColliderId>> seen;
   auto const r = move_and_slide(scene, BodyShape{capsule}, start, Vec3{6, -1, 0}, dt, {}, {},
-                                [&](MoveHit<BodyId>& h) {
+                                [&](MoveHit<ColliderId>& h) {
                                   seen.push_back(h);
                                   return HitResponse::accept;
                                 });
@@ -492,7 +492,7 @@ TEST_CASE("move and slide: the callback sees the collider touched and its change
   // ignore: the plane does not clip; the sweep still stops at the hit.
   auto const ignored =
       move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({0, 0, 0}), Vec3{200, 0, 0},
-                     dt, {}, {}, [&](MoveHit<BodyId>& h) {
+                     dt, {}, {}, [&](MoveHit<ColliderId>& h) {
                        return h.collider == wall ? HitResponse::ignore : HitResponse::accept;
                      });
   CHECK(ignored.velocity.x == 200.0f);
@@ -504,7 +504,7 @@ TEST_CASE("move and slide: the callback sees the collider touched and its change
   // abort: stops at the first hit.
   int calls = 0;
   auto const aborted = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({0, 0, 0}),
-                                      Vec3{200, 0, 200}, dt, {}, {}, [&](MoveHit<BodyId>&) {
+                                      Vec3{200, 0, 200}, dt, {}, {}, [&](MoveHit<ColliderId>&) {
                                         ++calls;
                                         return HitResponse::abort;
                                       });
@@ -517,7 +517,7 @@ TEST_CASE("move and slide: the callback sees the collider touched and its change
   int contact_calls = 0;
   auto const aborted_contact =
       move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({0, 0, 0}),
-                     Vec3{200, 0, 200}, dt, {}, {}, [&](MoveHit<BodyId>& h) {
+                     Vec3{200, 0, 200}, dt, {}, {}, [&](MoveHit<ColliderId>& h) {
                        if (h.kind != MoveHitKind::contact) return HitResponse::accept;
                        ++contact_calls;
                        return HitResponse::abort;
@@ -528,7 +528,7 @@ TEST_CASE("move and slide: the callback sees the collider touched and its change
 
   // A changed normal is honoured for the sweep's hit: turn the wall into a floor-like plane.
   auto const bent = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({1.9f, 2, 0}),
-                                   Vec3{6, 0, 0}, dt, {}, {}, [&](MoveHit<BodyId>& h) {
+                                   Vec3{6, 0, 0}, dt, {}, {}, [&](MoveHit<ColliderId>& h) {
                                      if (h.collider == wall)
                                        h.normal = Vec3{-std::sqrt(0.5f), std::sqrt(0.5f), 0};
                                      return HitResponse::accept;
@@ -536,7 +536,7 @@ TEST_CASE("move and slide: the callback sees the collider touched and its change
   CHECK(bent.velocity.y > 2.0f); // deflected upward along the changed plane
   // A changed velocity and position are kept.
   auto const moved = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({1.9f, 2, 0}),
-                                    Vec3{6, 0, 0}, dt, {}, {}, [&](MoveHit<BodyId>& h) {
+                                    Vec3{6, 0, 0}, dt, {}, {}, [&](MoveHit<ColliderId>& h) {
                                       if (h.kind == MoveHitKind::sweep) {
                                         h.velocity = Vec3{0, 0, 3}; // along the wall
                                         h.position = Vec3{0, 2, 0};
@@ -560,7 +560,7 @@ TEST_CASE("move and slide: bad input", "[character][move][bad-input]") {
   float const inf = std::numeric_limits<float>::infinity();
   Iso3 const at = Iso3::from_translation({0, 0, 0});
   int calls = 0;
-  auto const counting = [&](MoveHit<BodyId>&) {
+  auto const counting = [&](MoveHit<ColliderId>&) {
     ++calls;
     return HitResponse::accept;
   };
@@ -601,7 +601,7 @@ TEST_CASE("move and slide: bad input", "[character][move][bad-input]") {
   add_box(deep, {1, 0, 0}, {0.5f, 5, 5});
   auto const f = move_and_slide(WorldMoveQuery(deep), BodyShape{capsule},
                                 Iso3::from_translation({0.3f, 0, 0}), Vec3{5, 0, 0}, dt, {}, {},
-                                [](MoveHit<BodyId>&) { return HitResponse::abort; });
+                                [](MoveHit<ColliderId>&) { return HitResponse::abort; });
   CHECK(f.aborted);
   CHECK(gap(deep, f.position) >= 0.5f * skin);
 }
@@ -655,7 +655,7 @@ TEST_CASE("move and slide: callbacks that set NaN, and |v| dt beyond a float",
   WorldMoveQuery const scene(w);
   float const nan = std::numeric_limits<float>::quiet_NaN();
   auto const r = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({1.9f, 0, 0}),
-                                Vec3{6, 0, 0}, dt, {}, {}, [&](MoveHit<BodyId>& h) {
+                                Vec3{6, 0, 0}, dt, {}, {}, [&](MoveHit<ColliderId>& h) {
                                   h.position = Vec3{nan, 0, 0};
                                   h.velocity = Vec3{nan, nan, nan};
                                   h.normal = Vec3{nan, 0, 0};
@@ -666,7 +666,7 @@ TEST_CASE("move and slide: callbacks that set NaN, and |v| dt beyond a float",
   CHECK(r.position.x + 0.5f <= 2.5f);
   // ... also when the callback then aborts (no projection runs after it).
   auto const a = move_and_slide(scene, BodyShape{capsule}, Iso3::from_translation({1.9f, 0, 0}),
-                                Vec3{6, 0, 0}, dt, {}, {}, [&](MoveHit<BodyId>& h) {
+                                Vec3{6, 0, 0}, dt, {}, {}, [&](MoveHit<ColliderId>& h) {
                                   h.velocity = Vec3{nan, nan, nan};
                                   return HitResponse::abort;
                                 });
@@ -703,14 +703,14 @@ TEST_CASE("move and slide: cast_move and intersections on their own, bad input",
   }
   // intersections: the wall within 2.1 of the capsule's side, not within 1.9; stop on false.
   int found = 0;
-  intersections(scene, BodyShape{capsule}, at, 2.1f, {}, [&](MoveContact<BodyId> const& c) {
+  intersections(scene, BodyShape{capsule}, at, 2.1f, {}, [&](MoveContact<ColliderId> const& c) {
     ++found;
     CHECK(c.separation == Approx(2.0f).margin(1e-4));
     CHECK(c.normal.x == Approx(-1).margin(1e-4));
     return false;
   });
   CHECK(found == 1);
-  intersections(scene, BodyShape{capsule}, at, 1.9f, {}, [&](MoveContact<BodyId> const&) {
+  intersections(scene, BodyShape{capsule}, at, 1.9f, {}, [&](MoveContact<ColliderId> const&) {
     ++found;
     return true;
   });
@@ -747,7 +747,7 @@ TEST_CASE("cast providers give a unit normal when the cores overlap at the start
   std::vector<BodyShape> const shapes(3, BodyShape{capsule});
   std::vector<Iso3> const poses(3, inside);
   std::vector<Vec3> const motions{in, out, along};
-  std::vector<std::optional<MoveCastHit<BodyId>>> lanes(3);
+  std::vector<std::optional<MoveCastHit<ColliderId>>> lanes(3);
   world.cast_lanes(shapes, poses, motions, {}, lanes);
   REQUIRE(lanes[0]);
   CHECK(lanes[0]->normal.distance(b->normal) == 0.0f);
@@ -834,7 +834,7 @@ TEST_CASE("move and slide: a ColliderSetQuery gives the world's path, bit for bi
     Vec3 const desired{5 * std::cos(0.7f * t), -2, 5 * std::sin(1.3f * t)};
     auto const ra =
         move_and_slide(world, BodyShape{capsule}, Iso3::from_translation(a), desired, dt, {}, {},
-                       [](MoveHit<BodyId>&) { return HitResponse::accept; });
+                       [](MoveHit<ColliderId>&) { return HitResponse::accept; });
     auto const rb = move_and_slide(set, capsule, Iso3::from_translation(b), desired, dt, {}, {},
                                    [&](MoveHit<std::uint32_t>& h) {
                                      touched.push_back(h.collider);
@@ -877,7 +877,8 @@ TEST_CASE("move and slide: a ColliderSetQuery gives the world's path, bit for bi
 namespace {
 
 /// Two results are the same, bit for bit: position, velocity, flags and every kept hit.
-void require_same(MoveAndSlideResult<BodyId> const& a, MoveAndSlideResult<BodyId> const& b) {
+void require_same(MoveAndSlideResult<ColliderId> const& a,
+                  MoveAndSlideResult<ColliderId> const& b) {
   REQUIRE(test::same_bits(a.position, b.position));
   REQUIRE(test::same_bits(a.velocity, b.velocity));
   REQUIRE(a.sweeps == b.sweeps);
@@ -966,7 +967,7 @@ TEST_CASE("move and slide: W characters in lanes move exactly as each one alone"
         INFO("width " << W << ", frame " << frame << ", lane " << k);
         auto const one =
             move_and_slide(scene, shapes[k], Iso3::from_translation(pos[k]), vel[k], dt, cfg, {},
-                           [&](MoveHit<BodyId>& h) { return respond(k, h); });
+                           [&](MoveHit<ColliderId>& h) { return respond(k, h); });
         require_same(lanes.lanes[k], one);
         REQUIRE(test::same_bits(next[k], one.position));
         auto const one_set =
@@ -995,10 +996,10 @@ TEST_CASE("move and slide: W characters in lanes move exactly as each one alone"
   // cast_lanes: spans of different lengths are refused, nothing written; each answer is cast()'s.
   std::vector<Iso3> at(2, Iso3::from_translation({0, 0, 0}));
   std::vector<Vec3> go{{10, 0, 0}, {0, 0, 10}};
-  std::vector<std::optional<MoveCastHit<BodyId>>> one_out(1);
+  std::vector<std::optional<MoveCastHit<ColliderId>>> one_out(1);
   CHECK_THROWS_AS(scene.cast_lanes(two, at, go, {}, one_out), std::invalid_argument);
   CHECK(!one_out[0]);
-  std::vector<std::optional<MoveCastHit<BodyId>>> out(2);
+  std::vector<std::optional<MoveCastHit<ColliderId>>> out(2);
   scene.cast_lanes(two, at, go, {}, out);
   for (std::size_t k = 0; k < 2; ++k) {
     auto const single = scene.cast(two[k], at[k], go[k], {});

@@ -137,9 +137,9 @@ int main() {
   WorldMoveQuery const scene(level);
   Vec3 feet{0, 0, 0};
   for (int frame = 0; frame < 60; ++frame) {
-    auto const r =
-        move_and_slide(scene, Capsule{0.5f, 0.5f}, Iso3::from_translation(feet), Vec3{5, -1, 2},
-                       1.0f / 60.0f, {}, {}, [](MoveHit<BodyId>&) { return HitResponse::accept; });
+    auto const r = move_and_slide(scene, Capsule{0.5f, 0.5f}, Iso3::from_translation(feet),
+                                  Vec3{5, -1, 2}, 1.0f / 60.0f, {}, {},
+                                  [](MoveHit<ColliderId>&) { return HitResponse::accept; });
     feet = r.position;
   }
   // The README's crowd: W capsules at the origin, each moved as alone.

@@ -472,8 +472,9 @@ std::uint64_t joint_battery() {
   return (w.state_hash() ^ broken) * 1099511628211ull;
 }
 
-/// Destroying and creating bodies mid-run (slots reused at their next generation), then the
-/// world's queries: the state and the rays' hits (body, toi bits) hashed together.
+/// Destroying and creating bodies and standalone colliders mid-run (slots reused at their next
+/// generation; a collider teleported, one destroyed), then the world's queries: the state and
+/// the rays' hits (collider, toi bits) hashed together.
 template <class T>
 std::uint64_t world_edit_battery() {
   World w;
@@ -484,8 +485,20 @@ std::uint64_t world_edit_battery() {
     w.template step_with<T>(1.0f / 60.0f);
   for (std::size_t k = 0; k < boxes.size(); k += 3)
     w.destroy_body(boxes[k]);
+  // Standalone colliders take freed slots: a tilted slab, a post and a trigger.
+  ColliderId const slab =
+      w.create_collider({.pose = Iso3{Quat::from_rotation_z(0.2f), {-1.0f, 2.5f, 0.0f}},
+                         .shape = Cuboid{{1.0f, 0.1f, 1.0f}}})
+          .id;
+  ColliderId const post = w.create_collider({.pose = Iso3::from_translation({1.5f, 3.0f, 0.0f}),
+                                             .shape = Capsule{0.5f, 0.2f}})
+                              .id;
+  w.create_collider(
+      {.pose = Iso3::from_translation({0.0f, 4.0f, 0.0f}), .shape = Sphere{1.0f}, .sensor = true});
   for (int s = 0; s < 30; ++s)
     w.template step_with<T>(1.0f / 60.0f);
+  w.set_collider_pose(slab, Iso3{Quat::from_rotation_z(-0.2f), {-0.5f, 4.5f, 0.2f}});
+  w.destroy_collider(post);
   for (int i = 0; i < 6; ++i) {
     BodyDef def;
     def.shape = i % 2 ? BodyShape{Sphere{0.3f}} : BodyShape{Cuboid{{0.3f, 0.2f, 0.4f}}};
@@ -501,7 +514,7 @@ std::uint64_t world_edit_battery() {
     auto const hit =
         w.ray_cast({{float(k) * 0.5f - 4.0f, 10.0f, 0.25f}, {0.05f, -1.0f, 0.0f}}, 50.0f);
     std::uint32_t const bits =
-        hit ? std::bit_cast<std::uint32_t>(hit->toi) ^ (hit->body.index << 20) : 0u;
+        hit ? std::bit_cast<std::uint32_t>(hit->toi) ^ (hit->collider.index << 20) : 0u;
     h = (h ^ bits) * 1099511628211ull;
   }
   return h;
@@ -642,7 +655,7 @@ std::uint64_t world_mesh_battery() {
         w.shape_cast(Cuboid{{0.2f, 0.2f, 0.2f}}, Iso3::from_translation(o), {0.0f, -8.0f, 0.1f});
     mix(cast ? cast->toi : -1.0f);
     w.contact_query(Sphere{0.5f}, Iso3::from_translation({o.x, 0.3f, o.z}), 0.05f,
-                    [&](BodyId, Manifold const& m) {
+                    [&](ColliderId, Manifold const& m) {
                       for (ContactPoint const& c : m)
                         mix(c.separation);
                       return true;

@@ -5,23 +5,26 @@
 // (fixed, revolute, prismatic, spherical, distance; bad frames, limits, motors and break
 // thresholds at times), set motors and targets, set poses, velocities, types and layers (NaN and
 // infinities at times), apply impulses, step with dt > 0, 0, negative, NaN or infinite, and run
-// queries; mirrored by the list of ids it created and destroyed. At most 16 bodies, 8 joints and
-// 8 steps per input.
+// queries; create, teleport and destroy standalone colliders (sensors at times); mirrored by the
+// list of ids it created and destroyed. At most 16 bodies, 8 colliders, 8 joints and 8 steps per
+// input.
 // Properties:
 //  - every call returns the documented error for the input it got (a refused call leaves the
 //    world unchanged: counts, state hash and the body's own values), and none otherwise;
 //    accessors throw std::out_of_range for stale body and joint ids;
-//  - is_alive (bodies and joints) agrees with the mirror; alive_count, body_count and
-//    joint_count agree; destroying a body destroys its joints; a reused slot has the next
-//    generation and the old id stays dead;
+//  - is_alive (bodies, colliders and joints) agrees with the mirror; alive_count, collider_count,
+//    body_count and joint_count agree; a collider's slot names no body; destroying a body destroys
+//    its joints; a reused slot has the next generation and the old id stays dead;
 //  - setters do what they say (pose, velocity, layers, type, motor; a static body has no
 //    velocity; an impulse changes a dynamic body's velocity by J / m);
 //  - step ignores dt outside [World::min_dt, World::max_dt] (NaN too; state hash unchanged);
-//    after a step every live body's pose and velocities are finite, static bodies have not moved,
+//    after a step every live body's pose and velocities are finite, static bodies and colliders
+//    have not moved,
 //    frozen bodies are listed, events list live-at-the-time pairs in increasing order with the
 //    lower slot first, and joint states are finite; step_with<T> gives the world step() gives for
 //    float and every f32 width the build has;
-//  - queries see only live bodies; the closest ray hit is the first of ray_cast_all and the
+//  - queries see only live colliders (a hit's body is its collider's); the closest ray hit is the
+//  first of ray_cast_all and the
 //    batch ray cast gives the single one's bits; non-finite queries find nothing.
 #include "fuzz_input.hpp"
 
@@ -55,6 +58,7 @@ namespace {
 
 using plume::BodyError;
 using plume::BodyId;
+using plume::ColliderId;
 using plume::Iso3;
 using plume::JointError;
 using plume::JointId;
@@ -287,6 +291,11 @@ struct MirrorBody {
   bool massless = false;  ///< its shape and density give no positive finite mass
 };
 
+struct MirrorCollider {
+  ColliderId id;
+  bool alive = true;
+};
+
 struct MirrorJoint {
   JointId id;
   bool alive = true;
@@ -297,7 +306,29 @@ struct MirrorJoint {
 struct Mirror {
   std::vector<MirrorBody> bodies; ///< every body ever created, in creation order
   std::vector<MirrorJoint> joints;
-  std::vector<std::uint32_t> free_slots;
+  std::vector<MirrorCollider> colliders; ///< every standalone collider ever created
+  std::vector<std::uint32_t> free_slots; ///< bodies' and colliders' (they share the slots)
+
+  std::size_t alive_colliders() const {
+    return std::size_t(
+        std::count_if(colliders.begin(), colliders.end(), [](auto const& c) { return c.alive; }));
+  }
+  MirrorCollider* find_collider(ColliderId id) {
+    for (MirrorCollider& c : colliders)
+      if (c.id == id && c.alive) return &c;
+    return nullptr;
+  }
+  /// A live collider, a stale one, a body's, or one never made.
+  ColliderId pick_collider(Input& in) const {
+    std::uint8_t const k = in.byte();
+    std::vector<ColliderId> live, dead;
+    for (MirrorCollider const& c : colliders)
+      (c.alive ? live : dead).push_back(c.id);
+    if (!live.empty() && (k & 7) > 1) return live[std::size_t(k >> 3) % live.size()];
+    if (!dead.empty() && (k & 8)) return dead[std::size_t(k >> 4) % dead.size()];
+    if (!bodies.empty() && (k & 7) == 1) return bodies[std::size_t(k >> 3) % bodies.size()].id;
+    return ColliderId{std::uint32_t(40 + (k >> 4)), 0, true};
+  }
 
   std::size_t alive() const {
     return std::size_t(
@@ -335,21 +366,41 @@ struct Mirror {
 
 void check_mirror(plume::World const& w, Mirror const& m) {
   PLUME_FUZZ_CHECK(w.alive_count() == m.alive());
+  PLUME_FUZZ_CHECK(w.collider_count() == m.alive_colliders());
   PLUME_FUZZ_CHECK(w.joint_count() == m.alive_joints());
   std::size_t slots = 0;
-  std::vector<bool> used;
+  std::vector<bool> used, standalone;
   for (MirrorBody const& b : m.bodies) {
     PLUME_FUZZ_CHECK(w.is_alive(b.id) == b.alive);
+    PLUME_FUZZ_CHECK(w.is_alive(ColliderId(b.id)) == b.alive);
     slots = std::max<std::size_t>(slots, b.id.index + 1);
     used.resize(slots);
     if (b.alive) {
       used[b.id.index] = true;
       PLUME_FUZZ_CHECK(w.body_id(b.id.index) == b.id);
+      PLUME_FUZZ_CHECK(w.collider_id(b.id.index) == ColliderId(b.id));
       PLUME_FUZZ_CHECK(w.type(b.id) == b.type);
     }
   }
-  for (std::uint32_t i = 0; i < used.size(); ++i) // a free slot names no body
-    if (!used[i]) PLUME_FUZZ_CHECK(throws<std::out_of_range>([&] { (void)w.body_id(i); }));
+  for (MirrorCollider const& c : m.colliders) {
+    PLUME_FUZZ_CHECK(w.is_alive(c.id) == c.alive);
+    PLUME_FUZZ_CHECK(!w.is_alive(BodyId{c.id.index, c.id.generation}));
+    slots = std::max<std::size_t>(slots, c.id.index + 1);
+    used.resize(slots);
+    standalone.resize(slots);
+    if (c.alive) {
+      PLUME_FUZZ_CHECK(!used[c.id.index]);
+      used[c.id.index] = standalone[c.id.index] = true;
+      PLUME_FUZZ_CHECK(w.collider_id(c.id.index) == c.id);
+      PLUME_FUZZ_CHECK(plume::fuzz::finite(w.pose(c.id).translation));
+    }
+  }
+  standalone.resize(slots);
+  for (std::uint32_t i = 0; i < used.size(); ++i) { // a free slot names no body or collider
+    if (!used[i]) PLUME_FUZZ_CHECK(throws<std::out_of_range>([&] { (void)w.collider_id(i); }));
+    if (!used[i] || standalone[i])
+      PLUME_FUZZ_CHECK(throws<std::out_of_range>([&] { (void)w.body_id(i); }));
+  }
   PLUME_FUZZ_CHECK(w.body_count() == slots);
   for (MirrorJoint const& j : m.joints)
     PLUME_FUZZ_CHECK(w.is_alive(j.id) == j.alive);
@@ -360,12 +411,13 @@ void check_mirror(plume::World const& w, Mirror const& m) {
 /// A snapshot of what a refused call must leave alone.
 struct Snapshot {
   std::uint64_t hash;
-  std::size_t alive, slots, joints;
+  std::size_t alive, slots, joints, colliders;
   explicit Snapshot(plume::World const& w)
       : hash(w.state_hash()), alive(w.alive_count()), slots(w.body_count()),
-        joints(w.joint_count()) {}
+        joints(w.joint_count()), colliders(w.collider_count()) {}
   bool operator==(Snapshot const& o) const {
-    return hash == o.hash && alive == o.alive && slots == o.slots && joints == o.joints;
+    return hash == o.hash && alive == o.alive && slots == o.slots && joints == o.joints &&
+           colliders == o.colliders;
   }
 };
 
@@ -455,6 +507,8 @@ void create_body(plume::World& w, Mirror& m, Input& in) {
   // A reused slot: the next generation, and its old ids stay dead.
   for (MirrorBody const& b : m.bodies)
     if (b.id.index == id.index) PLUME_FUZZ_CHECK(!b.alive && id.generation > b.id.generation);
+  for (MirrorCollider const& c : m.colliders)
+    if (c.id.index == id.index) PLUME_FUZZ_CHECK(!c.alive && id.generation > c.id.generation);
   if (!m.free_slots.empty()) {
     PLUME_FUZZ_CHECK(id.index == m.free_slots.back());
     m.free_slots.pop_back();
@@ -503,13 +557,98 @@ void destroy_body(plume::World& w, Mirror& m, Input& in) {
   PLUME_FUZZ_CHECK(w.destroy_body(id) == BodyError::bad_body);
 }
 
-void set_pose(plume::World& w, Mirror& m, Input& in) {
-  BodyId const id = m.pick(in);
+void create_collider(plume::World& w, Mirror& m, Input& in) {
+  if (m.alive_colliders() >= 8) return;
+  plume::ColliderDef def;
+  std::uint8_t const k = in.byte();
+  def.shape = body_shape(in);
+  bool bad_pose = false;
+  def.pose = decode_pose(in, bad_pose);
+  Faults f;
+  def.friction = (k & 1) ? material(in, 0, 1, f) : 0.6f;
+  def.restitution = (k & 2) ? material(in, 0, 1, f) : 0.0f;
+  def.layers.memberships = (k & 4) ? 2u : 1u;
+  def.sensor = (k & 8) != 0;
+  bool const non_finite = bad_pose || f.non_finite;
+  bool const bad_shape = std::visit(
+      [](auto const& s) {
+        if constexpr (plume::is_triangle_shape_v<std::decay_t<decltype(s)>>)
+          return s.source() == nullptr || s.source()->empty();
+        else
+          return false;
+      },
+      def.shape);
+  Snapshot const before(w);
+  plume::CreateColliderResult const r = w.create_collider(def);
+  switch (r.error) {
+  case BodyError::none:
+    PLUME_FUZZ_CHECK(!non_finite && !f.negative && !bad_shape);
+    break;
+  case BodyError::non_finite:
+    PLUME_FUZZ_CHECK(non_finite);
+    break;
+  case BodyError::bad_material:
+    PLUME_FUZZ_CHECK(f.negative);
+    break;
+  case BodyError::bad_shape:
+    PLUME_FUZZ_CHECK(bad_shape);
+    break;
+  default:
+    PLUME_FUZZ_CHECK(false && "create_collider: an error it does not document");
+  }
+  if (!r) {
+    PLUME_FUZZ_CHECK(!r.id.valid());
+    PLUME_FUZZ_CHECK(Snapshot(w) == before);
+    return;
+  }
+  ColliderId const id = r.id;
+  PLUME_FUZZ_CHECK(id.standalone && !id.body().valid() && w.is_alive(id));
+  for (MirrorBody const& b : m.bodies)
+    if (b.id.index == id.index) PLUME_FUZZ_CHECK(!b.alive && id.generation > b.id.generation);
+  for (MirrorCollider const& c : m.colliders)
+    if (c.id.index == id.index) PLUME_FUZZ_CHECK(!c.alive && id.generation > c.id.generation);
+  if (!m.free_slots.empty()) {
+    PLUME_FUZZ_CHECK(id.index == m.free_slots.back());
+    m.free_slots.pop_back();
+  } else {
+    PLUME_FUZZ_CHECK(id.index == before.slots && id.generation == 0);
+  }
+  PLUME_FUZZ_CHECK(same(w.pose(id).translation, def.pose.translation));
+  PLUME_FUZZ_CHECK(std::abs(w.pose(id).rotation.length() - 1.0f) < 1e-4f);
+  PLUME_FUZZ_CHECK(w.is_sensor(id) == def.sensor);
+  PLUME_FUZZ_CHECK(w.layers(id).memberships == def.layers.memberships);
+  PLUME_FUZZ_CHECK(w.alive_count() == before.alive);
+  m.colliders.push_back({id, true});
+}
+
+void destroy_collider(plume::World& w, Mirror& m, Input& in) {
+  ColliderId const id = m.pick_collider(in);
+  MirrorCollider* c = m.find_collider(id);
+  Snapshot const before(w);
+  BodyError const e = w.destroy_collider(id);
+  if (!c) { // stale, never made, or a body's: refused
+    PLUME_FUZZ_CHECK(e == BodyError::bad_body);
+    PLUME_FUZZ_CHECK(Snapshot(w) == before);
+    return;
+  }
+  PLUME_FUZZ_CHECK(e == BodyError::none);
+  PLUME_FUZZ_CHECK(!w.is_alive(id));
+  c->alive = false;
+  m.free_slots.push_back(id.index);
+  PLUME_FUZZ_CHECK(throws<std::out_of_range>([&] { (void)w.pose(id); }));
+  PLUME_FUZZ_CHECK(w.destroy_collider(id) == BodyError::bad_body);
+}
+
+/// A teleport (set(p) on id: World::set_pose or set_collider_pose) of a decoded pose: bad_body
+/// unless the mirror has id live, non_finite for a bad pose (both leave the world alone), else
+/// the pose with its rotation normalised.
+template <class Id, class Set>
+void teleport(plume::World& w, Id id, bool live, Input& in, Set&& set) {
   bool bad = false;
   Iso3 const p = decode_pose(in, bad);
   Snapshot const before(w);
-  BodyError const e = w.set_pose(id, p);
-  if (!m.find(id)) {
+  BodyError const e = set(p);
+  if (!live) {
     PLUME_FUZZ_CHECK(e == BodyError::bad_body && Snapshot(w) == before);
     return;
   }
@@ -520,6 +659,17 @@ void set_pose(plume::World& w, Mirror& m, Input& in) {
   PLUME_FUZZ_CHECK(e == BodyError::none);
   PLUME_FUZZ_CHECK(same(w.pose(id).translation, p.translation));
   PLUME_FUZZ_CHECK(std::abs(w.pose(id).rotation.length() - 1.0f) < 1e-4f);
+}
+
+void set_collider_pose(plume::World& w, Mirror& m, Input& in) {
+  ColliderId const id = m.pick_collider(in);
+  teleport(w, id, m.find_collider(id) != nullptr, in,
+           [&](Iso3 const& p) { return w.set_collider_pose(id, p); });
+}
+
+void set_pose(plume::World& w, Mirror& m, Input& in) {
+  BodyId const id = m.pick(in);
+  teleport(w, id, m.find(id) != nullptr, in, [&](Iso3 const& p) { return w.set_pose(id, p); });
 }
 
 void set_velocity(plume::World& w, Mirror& m, Input& in) {
@@ -821,6 +971,8 @@ void step(plume::World& w, Mirror& m, Input& in, int& steps) {
   std::vector<Iso3> static_poses;
   for (MirrorBody const& b : m.bodies)
     if (b.alive && b.type == plume::BodyType::static_body) static_poses.push_back(w.pose(b.id));
+  for (MirrorCollider const& c : m.colliders)
+    if (c.alive) static_poses.push_back(w.pose(c.id));
   bool const ignored = !(dt >= plume::World::min_dt && dt <= plume::World::max_dt);
   // step_with<T> gives the world step() gives, for every width the build has.
   std::vector<std::uint64_t> widths;
@@ -848,6 +1000,8 @@ void step(plume::World& w, Mirror& m, Input& in, int& steps) {
     PLUME_FUZZ_CHECK(plume::fuzz::finite(w.center_of_mass(b.id)));
     if (b.type == plume::BodyType::static_body) PLUME_FUZZ_CHECK(same(p, static_poses[s++]));
   }
+  for (MirrorCollider const& c : m.colliders)
+    if (c.alive) PLUME_FUZZ_CHECK(same(w.pose(c.id), static_poses[s++]));
   // Every frozen body is in frozen_bodies() (which lists every freeze, ever).
   std::span<BodyId const> const frozen = w.frozen_bodies();
   for (MirrorBody const& b : m.bodies)
@@ -859,16 +1013,16 @@ void step(plume::World& w, Mirror& m, Input& in, int& steps) {
   plume::StepEvents const& ev = w.events();
   for (auto const* list : {&ev.contact_begin, &ev.contact_end, &ev.sensor_begin, &ev.sensor_end}) {
     for (std::size_t i = 0; i < list->size(); ++i) {
-      plume::BodyPair const& p = (*list)[i];
+      plume::ColliderPair const& p = (*list)[i];
       PLUME_FUZZ_CHECK(p.a.index < p.b.index);
       if (i > 0) {
-        plume::BodyPair const& q = (*list)[i - 1];
+        plume::ColliderPair const& q = (*list)[i - 1];
         PLUME_FUZZ_CHECK(q.a.index < p.a.index ||
                          (q.a.index == p.a.index && q.b.index < p.b.index));
       }
     }
   }
-  for (plume::BodyPair const& p : ev.contact_begin)
+  for (plume::ColliderPair const& p : ev.contact_begin)
     PLUME_FUZZ_CHECK(w.is_alive(p.a) && w.is_alive(p.b));
   // Swept bodies: live dynamic bodies, each once, by index.
   for (std::size_t i = 0; i < ev.continuous_stops.size(); ++i) {
@@ -908,13 +1062,13 @@ void query(plume::World const& w, Mirror& m, Input& in) {
   });
   if (!usable) PLUME_FUZZ_CHECK(!hit && all.empty());
   for (std::size_t i = 0; i < all.size(); ++i) {
-    PLUME_FUZZ_CHECK(w.is_alive(all[i].body));
+    PLUME_FUZZ_CHECK(w.is_alive(all[i].collider) && all[i].body == all[i].collider.body());
     PLUME_FUZZ_CHECK(all[i].toi >= 0.0f && all[i].toi <= max_toi);
     if (i > 0) PLUME_FUZZ_CHECK(all[i - 1].toi <= all[i].toi);
   }
   PLUME_FUZZ_CHECK(hit.has_value() == !all.empty());
   if (hit) {
-    PLUME_FUZZ_CHECK(hit->body == all.front().body && same(hit->toi, all.front().toi));
+    PLUME_FUZZ_CHECK(hit->collider == all.front().collider && same(hit->toi, all.front().toi));
     PLUME_FUZZ_CHECK(plume::fuzz::finite(hit->point) && plume::fuzz::finite(hit->normal));
   }
   // The batch form: each ray's answer is the single form's, bit for bit.
@@ -930,8 +1084,9 @@ void query(plume::World const& w, Mirror& m, Input& in) {
     std::optional<plume::WorldRayHit> const one = w.ray_cast(rays[i], max_toi);
     PLUME_FUZZ_CHECK(one.has_value() == out[i].has_value());
     if (one)
-      PLUME_FUZZ_CHECK(one->body == out[i]->body && same(one->toi, out[i]->toi) &&
-                       same(one->point, out[i]->point) && same(one->normal, out[i]->normal));
+      PLUME_FUZZ_CHECK(one->collider == out[i]->collider && one->body == out[i]->body &&
+                       same(one->toi, out[i]->toi) && same(one->point, out[i]->point) &&
+                       same(one->normal, out[i]->normal));
   }
   PLUME_FUZZ_CHECK(throws<std::invalid_argument>([&] {
     w.ray_cast(std::span<plume::Ray3 const>(rays), max_toi,
@@ -939,7 +1094,7 @@ void query(plume::World const& w, Mirror& m, Input& in) {
   }));
   // Box, point and shape queries see only live bodies.
   plume::Aabb3 const box{ray.origin - Vec3::splat(2.0f), ray.origin + Vec3::splat(2.0f)};
-  auto const live = [&](BodyId id) {
+  auto const live = [&](ColliderId id) {
     PLUME_FUZZ_CHECK(w.is_alive(id));
     return true;
   };
@@ -949,12 +1104,12 @@ void query(plume::World const& w, Mirror& m, Input& in) {
   std::optional<plume::WorldPointHit> const near = w.project_point(ray.origin, 5.0f);
   if (bad_o) PLUME_FUZZ_CHECK(!near);
   if (near) {
-    PLUME_FUZZ_CHECK(w.is_alive(near->body));
+    PLUME_FUZZ_CHECK(w.is_alive(near->collider) && near->body == near->collider.body());
     PLUME_FUZZ_CHECK(near->distance >= 0.0f && near->distance <= 5.0f);
   }
   int found = 0;
   w.contact_query(plume::Capsule{0.5f, 0.3f}, Iso3{Quat::IDENTITY, ray.origin},
-                  (k & 8) ? -1.0f : 0.05f, [&](BodyId id, plume::Manifold const& mf) {
+                  (k & 8) ? -1.0f : 0.05f, [&](ColliderId id, plume::Manifold const& mf) {
                     PLUME_FUZZ_CHECK(w.is_alive(id));
                     for (auto const& c : mf)
                       PLUME_FUZZ_CHECK(c.separation <= 0.05f + 1e-4f);
@@ -991,7 +1146,7 @@ extern "C" int LLVMFuzzerTestOneInput(std::uint8_t const* data, std::size_t size
   int const ops = in.integer(1, 48);
   for (int op = 0; op < ops && !in.empty(); ++op) {
     std::uint8_t const k = in.byte();
-    switch (k % 14) {
+    switch (k % 15) {
     case 0:
     case 1:
     case 2:
@@ -1027,6 +1182,14 @@ extern "C" int LLVMFuzzerTestOneInput(std::uint8_t const* data, std::size_t size
     case 11:
     case 12:
       step(w, m, in, steps);
+      break;
+    case 14:
+      if ((k & 0x30) == 0)
+        destroy_collider(w, m, in);
+      else if ((k & 0x30) == 0x10)
+        set_collider_pose(w, m, in);
+      else
+        create_collider(w, m, in);
       break;
     default:
       query(w, m, in);

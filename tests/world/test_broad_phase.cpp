@@ -79,7 +79,7 @@ TEST_CASE("bvh broad phase: the pairs brute force finds, through moves and kind 
     Vec3 const lo{at(rng), at(rng), at(rng)};
     return Aabb3{lo, lo + Vec3{size(rng), size(rng), size(rng)}};
   };
-  auto const random_kind = [&] { return ProxyKind(rng() % 3); };
+  auto const random_kind = [&] { return ProxyKind(rng() % proxy_kind_count); };
   for (std::uint32_t i = 0; i < n; ++i) {
     kind[i] = random_kind();
     unbounded[i] = rng() % 10 == 0;
@@ -283,4 +283,41 @@ TEST_CASE("world: the BVH and sort-and-sweep broad phases give the same world, b
     INFO("step " << s);
     REQUIRE(bvh.first[s] == sweep.first[s]);
   }
+}
+
+TEST_CASE("bvh broad phase: standalone colliders pair as statics, in a tree of their own",
+          "[world][broad-phase]") {
+  BvhBroadPhase bvh;
+  std::vector<std::uint64_t> pairs;
+  auto const keep = [](std::uint32_t, std::uint32_t) { return true; };
+  auto const unit = [](Vec3 lo) { return Aabb3{lo, lo + Vec3::splat(1.0f)}; };
+  bvh.set_box(0, unit({0, 0, 0}), ProxyKind::standalone);
+  bvh.set_box(1, unit({0.5f, 0, 0}), ProxyKind::dynamic);
+  bvh.set_box(2, unit({0.2f, 0, 0}), ProxyKind::kinematic);    // meets the collider: no pair
+  bvh.set_box(3, unit({-0.2f, 0, 0}), ProxyKind::static_body); // likewise
+  bvh.set_box(4, unit({-0.4f, 0, 0}), ProxyKind::standalone);  // two colliders: no pair
+  bvh.find_pairs(keep, pairs);
+  CHECK(pairs == std::vector<std::uint64_t>{body_pair_key(0, 1), body_pair_key(1, 2),
+                                            body_pair_key(1, 3), body_pair_key(1, 4)});
+  CHECK(bvh.tree(ProxyKind::standalone).size() == 2);
+  CHECK(bvh.tree(ProxyKind::static_body).size() == 1);
+  REQUIRE(bvh.static_wide() != nullptr);
+  // A collider that moves (here every call, as a trigger carried by a game object) is an edit
+  // of its own tree: the static tree's wide copy stays fresh, and the pairs follow it.
+  for (int k = 1; k <= 20; ++k) {
+    bvh.set_box(0, unit({0.5f * float(k), 0, 0}), ProxyKind::standalone);
+    bvh.find_pairs(keep, pairs);
+    CHECK(bvh.static_wide() != nullptr);
+    bool const meets = 0.5f * float(k) <= 1.5f; // the dynamic box spans x in [0.5, 1.5]
+    CHECK(std::count(pairs.begin(), pairs.end(), body_pair_key(0, 1)) == int(meets));
+    CHECK(bvh.tree(ProxyKind::standalone).validate() == "");
+  }
+  // A collider that becomes a static body leaves its tree for the static one.
+  bvh.set_box(4, unit({-0.4f, 0, 0}), ProxyKind::static_body);
+  bvh.find_pairs(keep, pairs);
+  CHECK(bvh.tree(ProxyKind::standalone).size() == 1);
+  CHECK(bvh.tree(ProxyKind::static_body).size() == 2);
+  CHECK(std::count(pairs.begin(), pairs.end(), body_pair_key(1, 4)) == 1);
+  bvh.remove(0);
+  CHECK(bvh.tree(ProxyKind::standalone).size() == 0);
 }

@@ -16,12 +16,12 @@ namespace {
 
 constexpr float dt = 1.0f / 60.0f;
 
-bool has(std::vector<BodyPair> const& v, BodyId a, BodyId b) {
-  return std::find(v.begin(), v.end(), BodyPair{a, b}) != v.end();
+bool has(std::vector<ColliderPair> const& v, BodyId a, BodyId b) {
+  return std::find(v.begin(), v.end(), ColliderPair{a, b}) != v.end();
 }
 
-bool sorted(std::vector<BodyPair> const& v) {
-  return std::is_sorted(v.begin(), v.end(), [](BodyPair const& x, BodyPair const& y) {
+bool sorted(std::vector<ColliderPair> const& v) {
+  return std::is_sorted(v.begin(), v.end(), [](ColliderPair const& x, ColliderPair const& y) {
     return body_pair_key(x.a.index, x.b.index) < body_pair_key(y.a.index, y.b.index);
   });
 }
@@ -156,7 +156,7 @@ TEST_CASE("events: the same events at every width", "[world][events][determinism
       StepEvents const& e = w.events();
       for (auto const* list : {&e.contact_begin, &e.contact_end, &e.sensor_begin, &e.sensor_end}) {
         log.push_back(0xffffffffffffffffull);
-        for (BodyPair const& p : *list)
+        for (ColliderPair const& p : *list)
           log.push_back(body_pair_key(p.a.index, p.b.index));
       }
     }

@@ -154,7 +154,8 @@ TEST_CASE("mesh bodies: a box in a valley rests on one contact per slope, one ev
   CHECK(begins == 1);
   std::size_t of_pair = 0;
   for (Contact const& ct : w.contacts())
-    of_pair += BodyPair{w.body_id(ct.body_a), w.body_id(ct.body_b)} == BodyPair{valley, ball};
+    of_pair +=
+        ColliderPair{w.body_id(ct.body_a), w.body_id(ct.body_b)} == ColliderPair{valley, ball};
   CHECK(of_pair == 2);
   // At rest on both slopes: centre at r / cos(30 deg) above the valley's floor line.
   CHECK(w.pose(ball).translation.y == Approx(0.4f / std::cos(0.5236f)).margin(0.01f));
@@ -181,10 +182,10 @@ TEST_CASE("mesh bodies: queries see meshes", "[world][mesh]") {
 
   int touching = 0;
   w.overlap_shape(Cuboid{Vec3::splat(0.5f)}, Iso3::from_translation({0.2f, 0.45f, 0.1f}),
-                  [&](BodyId id) { return touching += id == floor, true; });
+                  [&](ColliderId id) { return touching += id == floor, true; });
   CHECK(touching == 1);
   w.overlap_shape(Cuboid{Vec3::splat(0.5f)}, Iso3::from_translation({0.2f, 0.6f, 0.1f}),
-                  [&](BodyId id) { return touching += id == floor, true; });
+                  [&](ColliderId id) { return touching += id == floor, true; });
   CHECK(touching == 1); // 10 cm above: no touch
 
   auto const near = w.project_point({1.25f, 0.8f, -2.5f}, 5.0f);
@@ -195,7 +196,7 @@ TEST_CASE("mesh bodies: queries see meshes", "[world][mesh]") {
 
   int manifolds = 0;
   w.contact_query(Sphere{0.5f}, Iso3::from_translation({0.3f, 0.49f, 0.7f}), 0.01f,
-                  [&](BodyId id, Manifold const& m) {
+                  [&](ColliderId id, Manifold const& m) {
                     CHECK(id == floor);
                     CHECK(m.normal.y == Approx(1.0f).margin(1e-5)); // A, the body, to B
                     return ++manifolds, true;
@@ -218,7 +219,7 @@ TEST_CASE("mesh bodies: queries see meshes", "[world][mesh]") {
   CHECK(fp->distance == Approx(0.8f).margin(1e-5));
   int touched = 0;
   wf.overlap_shape(Sphere{0.5f}, Iso3::from_translation({0.3f, 0.45f, 0.7f}),
-                   [&](BodyId id) { return touched += id == ground, true; });
+                   [&](ColliderId id) { return touched += id == ground, true; });
   CHECK(touched == 1);
 }
 

@@ -60,7 +60,7 @@ ConvexHull tetra_hull() {
 }
 
 /// A ground half-space and n bodies of every shape, static and dynamic, in [-6, 6]^2 x [0, 5],
-/// stepped 20 times.
+/// half the static ones standalone colliders, stepped 20 times.
 World random_scene(std::uint32_t seed, int n, BroadPhaseKind kind = BroadPhaseKind::bvh) {
   WorldConfig cfg;
   cfg.broad_phase = kind;
@@ -91,9 +91,14 @@ World random_scene(std::uint32_t seed, int n, BroadPhaseKind kind = BroadPhaseKi
     Vec3 axis{at(rng), at(rng), at(rng)};
     axis = axis.length() > 0.1f ? axis.normalize() : Vec3::Y;
     Quat const q = Quat::from_axis_angle(axis, at(rng));
-    w.create_body({.type = rng() % 3 == 0 ? BodyType::static_body : BodyType::dynamic,
-                   .pose = Iso3{q, {at(rng), up(rng), at(rng)}},
-                   .shape = shape});
+    Iso3 const pose{q, {at(rng), up(rng), at(rng)}};
+    auto const role = rng() % 6;
+    if (role == 0)
+      REQUIRE(w.create_collider({.pose = pose, .shape = shape}));
+    else
+      w.create_body({.type = role == 1 ? BodyType::static_body : BodyType::dynamic,
+                     .pose = pose,
+                     .shape = shape});
   }
   for (int s = 0; s < 20; ++s)
     w.step(1.0f / 60.0f);
@@ -112,6 +117,7 @@ int same_hits(std::vector<std::optional<Hit>> const& got,
     if (!want[k]) continue;
     ++hits;
     CHECK(got[k]->body == want[k]->body);
+    CHECK(got[k]->collider == want[k]->collider);
     CHECK(test::same_bits(got[k]->toi, want[k]->toi));
     CHECK(test::same_bits(got[k]->point, want[k]->point));
     CHECK(test::same_bits(got[k]->normal, want[k]->normal));
@@ -151,20 +157,22 @@ World batch_scene() {
 
 TEST_CASE("world queries: rays against brute force over every body", "[world][queries]") {
   World const w = random_scene(5, 120);
+  REQUIRE(w.collider_count() > 10);
   std::mt19937 rng(9);
   std::uniform_real_distribution<float> at(-8.0f, 8.0f);
-  int hits = 0;
+  int hits = 0, standalone = 0;
   for (int k = 0; k < 400; ++k) {
     Ray3 const ray{{at(rng), 6.0f + 0.5f * at(rng), at(rng)}, {at(rng), at(rng) - 4.0f, at(rng)}};
     float const max_toi = k % 4 == 0 ? std::numeric_limits<float>::infinity() : 2.0f;
     std::vector<WorldRayHit> brute;
     for (std::uint32_t i = 0; i < w.body_count(); ++i) {
-      RayHit const h = brute_ray(w.shape(BodyId{i}), w.pose(BodyId{i}), ray,
+      RayHit const h = brute_ray(w.shape(w.collider_id(i)), w.pose(w.collider_id(i)), ray,
                                  std::min(max_toi, std::numeric_limits<float>::max()));
-      if (h.hit) brute.push_back({BodyId{i}, h.toi, ray.at(h.toi), h.normal});
+      ColliderId const c = w.collider_id(i);
+      if (h.hit) brute.push_back({c.body(), h.toi, ray.at(h.toi), h.normal, c});
     }
     std::sort(brute.begin(), brute.end(), [](WorldRayHit const& a, WorldRayHit const& b) {
-      return a.toi < b.toi || (a.toi == b.toi && a.body.index < b.body.index);
+      return a.toi < b.toi || (a.toi == b.toi && a.collider.index < b.collider.index);
     });
     auto const got = w.ray_cast(ray, max_toi);
     INFO("ray " << k);
@@ -172,6 +180,8 @@ TEST_CASE("world queries: rays against brute force over every body", "[world][qu
     if (got) {
       ++hits;
       CHECK(got->body == brute.front().body);
+      CHECK(got->collider == brute.front().collider);
+      standalone += int(got->collider.standalone);
       CHECK(got->toi == brute.front().toi);
       CHECK(got->normal.x == brute.front().normal.x);
     }
@@ -183,6 +193,7 @@ TEST_CASE("world queries: rays against brute force over every body", "[world][qu
     REQUIRE(all.size() == brute.size());
     for (std::size_t j = 0; j < all.size(); ++j) {
       CHECK(all[j].body == brute[j].body);
+      CHECK(all[j].collider == brute[j].collider);
       CHECK(all[j].toi == brute[j].toi);
     }
     if (all.size() > 1) { // stopping early
@@ -192,6 +203,7 @@ TEST_CASE("world queries: rays against brute force over every body", "[world][qu
     }
   }
   CHECK(hits > 100);
+  CHECK(standalone > 5); // standalone colliders hit, from their own tree
 }
 
 TEST_CASE(
@@ -219,7 +231,7 @@ TEST_CASE(
   BodyId const skip = w.body_id(7);
   for (QueryFilter const& filter :
        {QueryFilter{}, QueryFilter{.exclude = std::span<BodyId const>(&skip, 1)},
-        QueryFilter{.predicate = [](BodyId id) { return id.index % 3 != 0; }}})
+        QueryFilter{.predicate = [](ColliderId id) { return id.index % 3 != 0; }}})
     for (float max_toi : {20.0f, 3.0f, inf}) {
       std::vector<std::optional<WorldRayHit>> want(rays.size());
       for (std::size_t k = 0; k < rays.size(); ++k)
@@ -243,7 +255,7 @@ TEST_CASE(
   w.ray_cast(rays, inf, got);
   std::set<std::size_t> kinds;
   for (auto const& h : got)
-    if (h) kinds.insert(w.shape(h->body).index());
+    if (h) kinds.insert(w.shape(h->collider).index());
   CHECK(kinds.size() >= 6);
   // Ties: pairs of bodies with the same shape at the same pose; the lower index wins, whether
   // it is in the tree walked first (static) or in a later one (kinematic).
@@ -305,12 +317,13 @@ TEST_CASE("world queries: points, boxes and shapes against brute force", "[world
     INFO("query " << k << " at " << p);
     // point_query
     std::vector<std::uint32_t> got, want;
-    w.point_query(p, [&](BodyId id) {
+    w.point_query(p, [&](ColliderId id) {
       got.push_back(id.index);
       return true;
     });
     for (std::uint32_t i = 0; i < w.body_count(); ++i)
-      if (brute_distance(w.shape(BodyId{i}), w.pose(BodyId{i}), p) <= 0.0f) want.push_back(i);
+      if (brute_distance(w.shape(w.collider_id(i)), w.pose(w.collider_id(i)), p) <= 0.0f)
+        want.push_back(i);
     REQUIRE(got == want);
     contained += int(std::any_of(got.begin(), got.end(), [](std::uint32_t i) { return i != 0; }));
     // project_point
@@ -318,37 +331,37 @@ TEST_CASE("world queries: points, boxes and shapes against brute force", "[world
     auto const near = w.project_point(p, reach);
     float best = std::numeric_limits<float>::infinity();
     for (std::uint32_t i = 0; i < w.body_count(); ++i)
-      best =
-          std::min(best, std::max(0.0f, brute_distance(w.shape(BodyId{i}), w.pose(BodyId{i}), p)));
+      best = std::min(best, std::max(0.0f, brute_distance(w.shape(w.collider_id(i)),
+                                                          w.pose(w.collider_id(i)), p)));
     REQUIRE(near.has_value() == (best <= reach));
     if (near) CHECK(near->distance == Approx(best).margin(1e-4));
     // overlap_aabb: the grown boxes
     Aabb3 const box = Aabb3::from_center_half_extents(p, Vec3{0.5f, 0.3f, 0.7f});
     got.clear();
     want.clear();
-    w.overlap_aabb(box, [&](BodyId id) {
+    w.overlap_aabb(box, [&](ColliderId id) {
       got.push_back(id.index);
       return true;
     });
     for (std::uint32_t i = 0; i < w.body_count(); ++i)
-      if (bool(w.aabb(BodyId{i}).grow(margin).intersects(box))) want.push_back(i);
+      if (bool(w.aabb(w.collider_id(i)).grow(margin).intersects(box))) want.push_back(i);
     REQUIRE(got == want);
     // overlap_shape: a box at p, exact
     Cuboid const probe{Vec3{0.5f, 0.3f, 0.7f}};
     Iso3 const probe_pose = Iso3::from_translation(p);
     got.clear();
     want.clear();
-    w.overlap_shape(probe, probe_pose, [&](BodyId id) {
+    w.overlap_shape(probe, probe_pose, [&](ColliderId id) {
       got.push_back(id.index);
       return true;
     });
     for (std::uint32_t i = 0; i < w.body_count(); ++i) {
-      BodyShape const& s = w.shape(BodyId{i});
+      BodyShape const& s = w.shape(w.collider_id(i));
       bool touch;
       if (auto const* hs = std::get_if<HalfSpace>(&s)) {
-        Vec3 const n = w.pose(BodyId{i}).transform_vector(hs->normal);
+        Vec3 const n = w.pose(w.collider_id(i)).transform_vector(hs->normal);
         touch = n.dot(probe_pose.transform_point(probe.core_support(-n)) -
-                      w.pose(BodyId{i}).translation) <= 0.0f;
+                      w.pose(w.collider_id(i)).translation) <= 0.0f;
       } else {
         touch = std::visit(
             [&](auto const& b) {
@@ -356,9 +369,10 @@ TEST_CASE("world queries: points, boxes and shapes against brute force", "[world
               if constexpr (std::is_same_v<B, HalfSpace>) {
                 return false;
               } else if constexpr (is_triangle_shape_v<B>) {
-                return mesh_intersects(*b.source(), w.pose(BodyId{i}), probe, probe_pose);
+                return mesh_intersects(*b.source(), w.pose(w.collider_id(i)), probe, probe_pose);
               } else {
-                ClosestPoints const c = closest_points(probe, probe_pose, b, w.pose(BodyId{i}));
+                ClosestPoints const c =
+                    closest_points(probe, probe_pose, b, w.pose(w.collider_id(i)));
                 return bool(c.overlap) || c.distance <= 0.0f;
               }
             },
@@ -375,11 +389,11 @@ TEST_CASE("world queries: points, boxes and shapes against brute force", "[world
     float first = std::numeric_limits<float>::infinity();
     std::uint32_t first_body = ~0u;
     for (std::uint32_t i = 0; i < w.body_count(); ++i) {
-      BodyShape const& s = w.shape(BodyId{i});
+      BodyShape const& s = w.shape(w.collider_id(i));
       float t = std::numeric_limits<float>::infinity();
       if (auto const* hs = std::get_if<HalfSpace>(&s)) {
-        Vec3 const n = w.pose(BodyId{i}).transform_vector(hs->normal);
-        float const gap = n.dot(p - w.pose(BodyId{i}).translation) - ball.radius;
+        Vec3 const n = w.pose(w.collider_id(i)).transform_vector(hs->normal);
+        float const gap = n.dot(p - w.pose(w.collider_id(i)).translation) - ball.radius;
         float const closing = -n.dot(Vec3{0.3f, -6.0f, 0.2f});
         t = gap <= 0.0f ? 0.0f : (closing > 0.0f && gap <= closing ? gap / closing : t);
       } else {
@@ -387,12 +401,12 @@ TEST_CASE("world queries: points, boxes and shapes against brute force", "[world
             [&](auto const& b) {
               using B = std::decay_t<decltype(b)>;
               if constexpr (is_triangle_shape_v<B>) {
-                t = mesh_shape_cast(*b.source(), w.pose(BodyId{i}), ball, probe_pose,
+                t = mesh_shape_cast(*b.source(), w.pose(w.collider_id(i)), ball, probe_pose,
                                     Vec3{0.3f, -6.0f, 0.2f}, cfg)
                         .toi;
               } else if constexpr (!std::is_same_v<B, HalfSpace>) {
                 ShapeCastHit const c = plume::shape_cast(ball, probe_pose, Vec3{0.3f, -6.0f, 0.2f},
-                                                         b, w.pose(BodyId{i}), cfg);
+                                                         b, w.pose(w.collider_id(i)), cfg);
                 if (c.hit && !c.failed) t = c.toi;
               }
             },
@@ -405,7 +419,9 @@ TEST_CASE("world queries: points, boxes and shapes against brute force", "[world
     }
     REQUIRE(cast.has_value() == std::isfinite(first));
     if (cast) {
-      CHECK(cast->body.index == first_body);
+      CHECK(cast->collider.index == first_body);
+      CHECK(cast->collider == w.collider_id(first_body));
+      CHECK(cast->body == cast->collider.body());
       CHECK(cast->toi == first);
     }
   }
@@ -425,7 +441,7 @@ TEST_CASE("world queries: contact_query reports every body within the distance, 
     Iso3 const pose{Quat::from_rotation_x(at(rng)), {at(rng), h(rng), at(rng)}};
     INFO("query " << k << " at " << pose.translation);
     std::vector<std::uint32_t> got;
-    w.contact_query(probe, pose, distance, [&](BodyId id, Manifold const& m) {
+    w.contact_query(probe, pose, distance, [&](ColliderId id, Manifold const& m) {
       got.push_back(id.index);
       REQUIRE(!m.empty());
       REQUIRE(m.normal.length() == Approx(1).epsilon(1e-4));
@@ -436,8 +452,8 @@ TEST_CASE("world queries: contact_query reports every body within the distance, 
     reported += int(got.size());
     // An independent oracle: the distance between the probe and each body.
     for (std::uint32_t i = 0; i < w.body_count(); ++i) {
-      BodyShape const& s = w.shape(BodyId{i});
-      Iso3 const pb = w.pose(BodyId{i});
+      BodyShape const& s = w.shape(w.collider_id(i));
+      Iso3 const pb = w.pose(w.collider_id(i));
       float d;
       if (auto const* hs = std::get_if<HalfSpace>(&s)) {
         Vec3 const n = pb.transform_vector(hs->normal);
@@ -474,7 +490,7 @@ TEST_CASE("world queries: contact_query reports every body within the distance, 
   CHECK(reported > 50); // the scene is dense enough for the test to mean something
   // Bad input finds nothing; f returning false stops.
   int calls = 0;
-  auto const count = [&](BodyId, Manifold const&) {
+  auto const count = [&](ColliderId, Manifold const&) {
     ++calls;
     return true;
   };
@@ -485,7 +501,7 @@ TEST_CASE("world queries: contact_query reports every body within the distance, 
   w.contact_query(HalfSpace{Vec3::Y}, Iso3{}, distance, count);
   CHECK(calls == 0);
   w.contact_query(Cuboid{Vec3::splat(6)}, Iso3::from_translation({0, 2, 0}), distance,
-                  [&](BodyId, Manifold const&) {
+                  [&](ColliderId, Manifold const&) {
                     ++calls;
                     return false;
                   });
@@ -514,7 +530,7 @@ TEST_CASE("world queries: filters, layers, fresh poses, both broad phases, bad i
   CHECK(w.ray_cast(down, 100.0f, {.mask = 2})->body == a);
   BodyId const skip[] = {b};
   CHECK(w.ray_cast(down, 100.0f, {.exclude = skip})->body == a);
-  CHECK(w.ray_cast(down, 100.0f, {.predicate = [&](BodyId id) { return id != b && id != a; }})
+  CHECK(w.ray_cast(down, 100.0f, {.predicate = [&](ColliderId id) { return id != b && id != a; }})
             ->body == BodyId{0});
   CHECK(!w.ray_cast(down, 100.0f, {.mask = 8}));
   // Layers: the sphere (filters exclude layer 2) falls through the box onto the ground.
@@ -575,13 +591,13 @@ TEST_CASE("world queries: filters, layers, fresh poses, both broad phases, bad i
   CHECK(!w.shape_cast(Sphere{0.1f}, Iso3::from_translation({0, 5, 0}), {0, -10, 0},
                       {.target_distance = nan}));
   int calls = 0;
-  w.point_query({nan, 0, 0}, [&](BodyId) { return ++calls > 0; });
-  w.overlap_aabb({Vec3::splat(nan), Vec3::splat(nan)}, [&](BodyId) { return ++calls > 0; });
+  w.point_query({nan, 0, 0}, [&](ColliderId) { return ++calls > 0; });
+  w.overlap_aabb({Vec3::splat(nan), Vec3::splat(nan)}, [&](ColliderId) { return ++calls > 0; });
   CHECK(calls == 0);
   // The ground (a half-space) contains every point below it.
   std::vector<BodyId> in;
-  w.point_query({3, -1, 3}, [&](BodyId id) {
-    in.push_back(id);
+  w.point_query({3, -1, 3}, [&](ColliderId id) {
+    in.push_back(id.body());
     return true;
   });
   CHECK(in == std::vector<BodyId>{BodyId{0}});
@@ -659,7 +675,7 @@ TEST_CASE("world queries: the batch shape cast is the single one per query, bit 
   cases.push_back({ShapeCastConfig{}, QueryFilter{}});
   cases.push_back({skin, QueryFilter{.exclude = std::span<BodyId const>(&skip, 1)}});
   cases.push_back(
-      {short_cast, QueryFilter{.predicate = [](BodyId id) { return id.index % 4 != 0; }}});
+      {short_cast, QueryFilter{.predicate = [](ColliderId id) { return id.index % 4 != 0; }}});
   for (Case const& c : cases) {
     std::vector<std::optional<WorldShapeHit>> want(shapes.size());
     for (std::size_t k = 0; k < shapes.size(); ++k)

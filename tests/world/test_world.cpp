@@ -518,8 +518,8 @@ TEST_CASE("world: set_type turns bodies static, kinematic and dynamic", "[world]
   int on_base_events = 0;
   for (int s = 0; s < 120; ++s) {
     w.step(dt);
-    for (BodyPair const& p : w.events().contact_end)
-      on_base_events += p == BodyPair{base, on_base};
+    for (ColliderPair const& p : w.events().contact_end)
+      on_base_events += p == ColliderPair{base, on_base};
     if (s == 60) REQUIRE(w.set_type(base, BodyType::static_body) == BodyError::none);
   }
   CHECK(w.pose(hanging).translation.y == Approx(0.5f).margin(0.02f)); // fell and rests
@@ -667,6 +667,6 @@ TEST_CASE("world: QueryFilter::sensors = false hides sensor bodies from every qu
   CHECK(cast->body == wall);
   int seen = 0;
   w.overlap_aabb(
-      Aabb3{{-2, -2, 0}, {2, 2, 12}}, [&](BodyId) { return ++seen, true; }, solid);
+      Aabb3{{-2, -2, 0}, {2, 2, 12}}, [&](ColliderId) { return ++seen, true; }, solid);
   CHECK(seen == 1);
 }

@@ -3,8 +3,9 @@
 // sorted body_pair_key()s), chosen by WorldConfig::broad_phase:
 //
 // BvhBroadPhase (the default) keeps the bodies in bounding volume hierarchies
-// (spatial/aabb_tree.hpp), one per kind as Avian's: static, kinematic and dynamic, and a list of
-// unbounded bodies (half-spaces: a box with an infinite coordinate). Pairs persist between
+// (spatial/aabb_tree.hpp), one per kind as Avian's: static, kinematic, dynamic and standalone
+// colliders (colliders without a body), and a list of unbounded ones (half-spaces: a box with
+// an infinite coordinate). Pairs persist between
 // steps, as Box2D v3's: a candidate pair is kept while the two fat boxes (a tree leaf's box,
 // grown by the tree's margin; an unbounded body's own box) overlap, and only bodies whose fat
 // box changed this step (moved out of it, new, or of a new kind) query the trees for new
@@ -13,8 +14,8 @@
 // or not, costs one exact box test per candidate pair and no query. Each step's pairs are the
 // candidates whose exact boxes overlap and that keep() accepts, so they are the same as a
 // brute-force loop's. The static tree is rebuilt (binned SAH) only in a step after static
-// bodies were added or moved; the kinematic and dynamic trees are optimised each step
-// (TreeOptimization::adaptive).
+// bodies were added or moved; the kinematic, dynamic and standalone trees are optimised each
+// step (TreeOptimization::adaptive).
 //
 // SortAndSweep sorts the boxes on their minimum x (ties by body index) and sweeps: each box
 // is tested against the following boxes whose minimum x is at most its maximum x. Cost
@@ -82,7 +83,10 @@ private:
 
 /// What a body is to the BVH broad phase: which tree holds it and what it pairs with (a pair
 /// needs at least one dynamic body; the caller's keep() refines that, e.g. for frozen bodies).
-enum class ProxyKind : std::uint8_t { static_body, kinematic, dynamic };
+/// standalone: a collider without a body (pairs as a static body, in a tree of its own).
+enum class ProxyKind : std::uint8_t { static_body, kinematic, dynamic, standalone };
+/// The number of trees (one per ProxyKind).
+inline constexpr std::size_t proxy_kind_count = 4;
 
 /// The BVH broad phase (see above), over bodies numbered by the world's slots.
 class BvhBroadPhase {
@@ -108,9 +112,9 @@ public:
   /// The bodies on the unbounded list, by index.
   std::span<std::uint32_t const> unbounded() const noexcept { return unbounded_; }
   AabbTree const& tree(ProxyKind kind) const noexcept { return trees_[std::size_t(kind)]; }
-  /// The three trees (static, kinematic, dynamic), for queries over every body.
-  std::array<AabbTree const*, 3> trees() const noexcept {
-    return {&trees_[0], &trees_[1], &trees_[2]};
+  /// The four trees (static, kinematic, dynamic, standalone), for queries over every body.
+  std::array<AabbTree const*, proxy_kind_count> trees() const noexcept {
+    return {&trees_[0], &trees_[1], &trees_[2], &trees_[3]};
   }
   /// A wide copy of the static tree (lanes of children per node, as GWideBvh), rebuilt with
   /// it: null while static bodies changed since the last optimize() (use tree() then). The
@@ -136,7 +140,7 @@ public:
   /// Rebuilds the static tree and its wide copy if static bodies changed (optimize() does
   /// this too; the world calls it before queries between steps).
   void refresh_static();
-  /// What the last optimisation of the kinematic and dynamic trees ran.
+  /// What the last optimisation of the kinematic, dynamic and standalone trees ran.
   TreeOptimization last_optimization(ProxyKind kind) const noexcept {
     return last_[std::size_t(kind)];
   }
@@ -145,7 +149,7 @@ public:
   /// Bodies queried by the last find_pairs() (the moved ones).
   std::size_t last_query_count() const noexcept { return last_queries_; }
 
-  /// Rebuilds the static tree if statics changed, optimises the kinematic and dynamic trees
+  /// Rebuilds the static tree if statics changed, optimises the other trees
   /// (find_pairs does this first; call it when the trees serve queries only).
   void optimize();
 
@@ -165,7 +169,7 @@ private:
   void mark_moved(std::uint32_t i);
   void update_candidates();
 
-  std::array<AabbTree, 3> trees_; ///< by ProxyKind
+  std::array<AabbTree, proxy_kind_count> trees_; ///< by ProxyKind
   std::vector<Slot> slots_;
   std::vector<std::uint32_t> unbounded_;
   std::vector<std::uint32_t> moved_;              ///< bodies to query for new pairs, each once
@@ -175,7 +179,7 @@ private:
   bool static_changed_ = false;
   WideBvh static_wide_;
   bool wide_fresh_ = false;
-  std::array<TreeOptimization, 3> last_{};
+  std::array<TreeOptimization, proxy_kind_count> last_{};
 };
 
 template <class Keep>

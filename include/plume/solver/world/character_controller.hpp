@@ -140,10 +140,11 @@ struct CharacterConfig {
 /// What the ground under a character is (the contact the state came from).
 struct CharacterGround {
   GroundState state = GroundState::in_air;
-  BodyId body{};   ///< invalid in the air
-  Vec3 point{};    ///< on the body's surface, world
-  Vec3 normal{};   ///< unit, out of the body (for a V of steep slopes: their mean)
-  Vec3 velocity{}; ///< the body's surface velocity at point (m/s)
+  BodyId body{};         ///< invalid in the air and on a standalone collider
+  ColliderId collider{}; ///< what it stands on (invalid in the air)
+  Vec3 point{};          ///< on the body's surface, world
+  Vec3 normal{};         ///< unit, out of the body (for a V of steep slopes: their mean)
+  Vec3 velocity{};       ///< the body's surface velocity at point (m/s)
   float separation = 0.0f;
 };
 
@@ -160,8 +161,8 @@ struct CharacterUpdate {
   bool carried = false;       ///< moved by the platform it stood on
   bool stepped = false;       ///< climbed a step
   bool stuck_to_floor = false;
-  Vec3 displacement{};               ///< position after - before, world
-  MoveAndSlideResult<BodyId> move{}; ///< the main move's result (hits, flags)
+  Vec3 displacement{};                   ///< position after - before, world
+  MoveAndSlideResult<ColliderId> move{}; ///< the main move's result (hits, flags)
 };
 
 /// A kinematic character in a World. Not copyable (it owns its proxy body); destroy() (or the
@@ -234,7 +235,7 @@ private:
   Iso3 pose_at(Vec3 const& p) const { return Iso3{rotation_, p}; }
   CharacterGround find_ground(World const& world, Vec3 const& p) const;
   /// The walkable face under an edge contact at `point` of `body` (character at p), if any.
-  std::optional<Vec3> surface_normal(World const& world, BodyId body, Vec3 const& point,
+  std::optional<Vec3> surface_normal(World const& world, ColliderId collider, Vec3 const& point,
                                      Vec3 const& p) const;
   void carry(World& world, WorldMoveQuery const& scene);
   bool walk_stairs(WorldMoveQuery const& scene, Vec3 const& forward);
@@ -249,7 +250,7 @@ private:
   CharacterGround ground_{};
   Iso3 ground_pose_{}; ///< the ground body's pose at the end of the last update
   BodyId proxy_{};
-  std::vector<MoveHit<BodyId>> touched_; ///< the last move's accepted hits on dynamic bodies
+  std::vector<MoveHit<ColliderId>> touched_; ///< the last move's accepted hits on dynamic bodies
   std::vector<CharacterPush> pushes_;
   CharacterUpdate last_{};
 };

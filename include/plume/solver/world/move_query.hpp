@@ -15,6 +15,7 @@
 #include <plume/solver/character/move_and_slide.hpp>
 #include <plume/solver/world/world.hpp>
 
+#include <algorithm>
 #include <optional>
 #include <span>
 #include <stdexcept>
@@ -24,7 +25,7 @@ namespace plume {
 
 class WorldMoveQuery {
 public:
-  using collider_id = BodyId;
+  using collider_id = ColliderId; ///< a body's collider, or a standalone one
   using shape_type = BodyShape;
   using filter_type = QueryFilter;
 
@@ -32,11 +33,11 @@ public:
 
   World const& world() const noexcept { return *world_; }
 
-  /// The first body the shape touches moving by t * motion, t in [0, 1]; bodies it overlaps
+  /// The first collider the shape touches moving by t * motion, t in [0, 1]; bodies it overlaps
   /// at the start are ignored when the motion leaves them (for cores that overlap, along the
   /// contact manifold's normal); the normal is always unit.
-  std::optional<MoveCastHit<BodyId>> cast(BodyShape const& shape, Iso3 const& pose,
-                                          Vec3 const& motion, QueryFilter const& filter) const {
+  std::optional<MoveCastHit<ColliderId>> cast(BodyShape const& shape, Iso3 const& pose,
+                                              Vec3 const& motion, QueryFilter const& filter) const {
     std::optional<WorldShapeHit> const h =
         world_->shape_cast(shape, pose, motion, cast_config(), filter);
     if (h && !(h->normal.length_squared() > 0.0f))
@@ -49,7 +50,7 @@ public:
   /// std::invalid_argument when the spans differ in length (nothing written).
   void cast_lanes(std::span<BodyShape const> shapes, std::span<Iso3 const> poses,
                   std::span<Vec3 const> motions, QueryFilter const& filter,
-                  std::span<std::optional<MoveCastHit<BodyId>>> out) const {
+                  std::span<std::optional<MoveCastHit<ColliderId>>> out) const {
     if (out.size() != shapes.size())
       throw std::invalid_argument("WorldMoveQuery::cast_lanes: out and shapes differ in length");
     std::vector<std::optional<WorldShapeHit>> hits(shapes.size());
@@ -62,18 +63,18 @@ public:
     }
   }
 
-  /// The deepest point of each body's manifold with the shape within `distance`.
+  /// The deepest point of each collider's manifold with the shape within `distance`.
   template <class Sink>
   void contacts(BodyShape const& shape, Iso3 const& pose, float distance, QueryFilter const& filter,
                 Sink&& sink) const {
     world_->contact_query(
         shape, pose, distance,
-        [&](BodyId id, Manifold const& m) {
+        [&](ColliderId id, Manifold const& m) {
           GContactPoint<float> const* deepest = m.begin();
           for (auto const& c : m)
             if (c.separation < deepest->separation) deepest = &c;
           return bool(
-              sink(MoveContact<BodyId>{id, deepest->point_a, m.normal, deepest->separation}));
+              sink(MoveContact<ColliderId>{id, deepest->point_a, m.normal, deepest->separation}));
         },
         filter);
   }
@@ -91,17 +92,18 @@ private:
   /// body (EPA's normals) give one: the one the motion runs into most steeply; a start the
   /// motion leaves or runs along (within 1e-3 rad) for every manifold is ignored as any other,
   /// and the cast goes on without that body.
-  std::optional<MoveCastHit<BodyId>> resolve_overlap(BodyShape const& shape, Iso3 const& pose,
-                                                     Vec3 const& motion, QueryFilter const& filter,
-                                                     WorldShapeHit first) const {
-    std::vector<BodyId> skipped(filter.exclude.begin(), filter.exclude.end());
+  std::optional<MoveCastHit<ColliderId>> resolve_overlap(BodyShape const& shape, Iso3 const& pose,
+                                                         Vec3 const& motion,
+                                                         QueryFilter const& filter,
+                                                         WorldShapeHit first) const {
+    std::vector<ColliderId> skipped;
     std::optional<WorldShapeHit> h = first;
-    // Each round skips one more body: a bounded loop.
+    // Each round skips one more collider: a bounded loop.
     for (int round = 0; round < 64 && h && !(h->normal.length_squared() > 0.0f); ++round) {
-      BodyId const body = h->body;
+      ColliderId const met = h->collider;
       QueryFilter only = filter;
-      only.predicate = [&](BodyId id) {
-        return id == body && (!filter.predicate || filter.predicate(id));
+      only.predicate = [&](ColliderId id) {
+        return id == met && (!filter.predicate || filter.predicate(id));
       };
       // Every manifold of the body (a mesh gives one per group of triangles): the one the
       // motion runs into most steeply is the hit; the body is left only when the motion
@@ -111,7 +113,7 @@ private:
       float steepest = 0.0f;
       world_->contact_query(
           shape, pose, 0.0f,
-          [&](BodyId, Manifold const& m) {
+          [&](ColliderId, Manifold const& m) {
             if (m.empty() || !(m.normal.length_squared() > 0.0f)) return true;
             float const out = m.normal.dot(motion);
             if (out < steepest && moves_into_surface(-out, motion.length_squared())) {
@@ -122,18 +124,21 @@ private:
             return true;
           },
           only);
-      if (normal) return MoveCastHit<BodyId>{body, h->toi, point, *normal};
-      skipped.push_back(body);
+      if (normal) return MoveCastHit<ColliderId>{met, h->toi, point, *normal};
+      skipped.push_back(met);
       QueryFilter rest = filter;
-      rest.exclude = skipped;
+      rest.predicate = [&](ColliderId id) {
+        return std::find(skipped.begin(), skipped.end(), id) == skipped.end() &&
+               (!filter.predicate || filter.predicate(id));
+      };
       h = world_->shape_cast(shape, pose, motion, cast_config(), rest);
     }
     if (h && !(h->normal.length_squared() > 0.0f)) return std::nullopt;
     return as_move_hit(h);
   }
-  static std::optional<MoveCastHit<BodyId>> as_move_hit(std::optional<WorldShapeHit> const& h) {
+  static std::optional<MoveCastHit<ColliderId>> as_move_hit(std::optional<WorldShapeHit> const& h) {
     if (!h) return std::nullopt;
-    return MoveCastHit<BodyId>{h->body, h->toi, h->point, h->normal};
+    return MoveCastHit<ColliderId>{h->collider, h->toi, h->point, h->normal};
   }
 
   World const* world_;

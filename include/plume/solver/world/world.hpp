@@ -48,6 +48,13 @@
 // translation at the step's final orientation: a body that tunnels only by spinning (a long,
 // thin rod turning fast) is not caught.
 //
+// Standalone colliders (create_collider): a shape with no body, as Avian's colliders without a
+// rigid body, for level geometry and triggers. It collides as a static body (never moves in a
+// step, infinite mass; a sensor collider reports overlaps), lives in a broad-phase tree of its
+// own, so that creating, moving or destroying one never rebuilds the static bodies' tree, and
+// may be teleported at any time (set_collider_pose). Queries and events name what they meet by
+// ColliderId: a body's (its BodyId converts) or a standalone collider's (no body).
+//
 // Out of scope for this version (named, not stubbed): sleeping (every dynamic body is
 // simulated each step; a per-body flag would slot in where frozen bodies are skipped) and
 // compound bodies (one shape per body).
@@ -200,6 +207,45 @@ struct BodyId {
   friend bool operator==(BodyId, BodyId) = default;
 };
 
+/// What a query or event met: a body's shape (one per body) or a standalone collider. Bodies and
+/// standalone colliders share the world's slots, so `index` is unique among live colliders;
+/// a slot reused after a destroy gets the next generation. A BodyId converts to its body's
+/// collider; body() goes back (an invalid BodyId for a standalone collider).
+struct ColliderId {
+  std::uint32_t index = ~std::uint32_t(0);
+  std::uint32_t generation = 0;
+  bool standalone = false; ///< a collider without a body (World::create_collider)
+  constexpr ColliderId() noexcept = default;
+  constexpr ColliderId(std::uint32_t i, std::uint32_t g, bool alone) noexcept
+      : index(i), generation(g), standalone(alone) {}
+  /// The collider of body b.
+  constexpr ColliderId(BodyId b) noexcept : index(b.index), generation(b.generation) {}
+  /// The body whose shape this is (invalid for a standalone collider).
+  constexpr BodyId body() const noexcept {
+    return standalone ? BodyId{} : BodyId{index, generation};
+  }
+  bool valid() const noexcept { return index != ~std::uint32_t(0); }
+  friend bool operator==(ColliderId, ColliderId) = default;
+};
+
+/// A standalone collider: a shape with no body (level geometry, a trigger). It collides as a
+/// static body with the dynamic bodies whose layers it interacts with.
+struct ColliderDef {
+  Iso3 pose{}; ///< the shape's frame in the world
+  BodyShape shape = Sphere{0.5f};
+  float friction = 0.6f;    ///< as BodyDef::friction
+  float restitution = 0.0f; ///< as BodyDef::restitution
+  CollisionLayers layers{};
+  /// A sensor (a trigger) reports the dynamic bodies it overlaps and takes no contact response.
+  bool sensor = false;
+};
+
+struct CreateColliderResult {
+  ColliderId id; ///< invalid when error != none
+  BodyError error = BodyError::none;
+  explicit operator bool() const noexcept { return error == BodyError::none; }
+};
+
 /// A joint between two bodies (solver/joints/joint.hpp has the types, rows and errors).
 struct JointDef {
   BodyId body_a, body_b;
@@ -214,40 +260,45 @@ struct JointDef {
   float break_torque = std::numeric_limits<float>::infinity();
 };
 
-/// Which bodies a world query sees: those in a layer of `mask`, not in `exclude`, sensors
-/// only with `sensors`, and for which `predicate` (when set) returns true.
+/// Which colliders a world query sees: those in a layer of `mask`, not of a body in `exclude`,
+/// sensors only with `sensors`, and for which `predicate` (when set) returns true.
 struct QueryFilter {
   std::uint32_t mask = 0xffffffffu;
   std::span<BodyId const> exclude{};
-  std::function<bool(BodyId)> predicate{};
+  std::function<bool(ColliderId)> predicate{};
   bool sensors = true; ///< false: sensor bodies are not seen (a character walks through them)
 };
 
-/// A ray's hit on a body: toi in units of the ray's direction, the world point and the
-/// outward unit normal of the body's surface there (zero when the ray starts inside).
+/// A ray's hit on a collider: toi in units of the ray's direction, the world point and the
+/// outward unit normal of the surface there (zero when the ray starts inside). `body` is the
+/// body hit (invalid for a standalone collider); `collider` names the shape either way.
 struct WorldRayHit {
   BodyId body;
   float toi = 0.0f;
   Vec3 point{};
   Vec3 normal{};
+  ColliderId collider{};
 };
 
 /// A shape cast's first contact with a body: toi in units of the motion; point on the body;
 /// normal out of the body toward the cast shape; penetrating when it started in contact.
+/// (body and collider as WorldRayHit's.)
 struct WorldShapeHit {
   BodyId body;
   float toi = 0.0f;
   Vec3 point{};
   Vec3 normal{};
   bool penetrating = false;
+  ColliderId collider{};
 };
 
 /// The nearest point on a body's surface to a query point (distance 0 and the point itself
-/// when the point is inside).
+/// when the point is inside; body and collider as WorldRayHit's).
 struct WorldPointHit {
   BodyId body;
   float distance = 0.0f;
   Vec3 point{};
+  ColliderId collider{};
 };
 
 namespace detail {
@@ -265,10 +316,11 @@ std::optional<WorldShapeHit> cast_against(BodyShape const& body, Iso3 const& bod
                                           Vec3 const& motion, ShapeCastConfig const& cfg);
 } // namespace detail
 
-/// Two bodies in an event, the lower slot first (ids as they were when the event happened).
-struct BodyPair {
-  BodyId a, b;
-  friend bool operator==(BodyPair const&, BodyPair const&) = default;
+/// Two colliders in an event, the lower slot first (ids as they were when the event
+/// happened): two bodies, or a body and a standalone collider (a.body() or b.body() invalid).
+struct ColliderPair {
+  ColliderId a, b;
+  friend bool operator==(ColliderPair const&, ColliderPair const&) = default;
 };
 
 /// What changed in the last step, each list in increasing pair order. A contact begins in the
@@ -276,10 +328,10 @@ struct BodyPair {
 /// step it has none, or when a body is destroyed (destroy_body's ends are reported by the next
 /// step); a body frozen in a step keeps a contact it still touches, as a static body. A sensor
 /// overlap begins when the shapes first intersect (touching counts) and ends when they no longer
-/// do.
+/// do. Both are found at the poses the step starts from.
 struct StepEvents {
-  std::vector<BodyPair> contact_begin, contact_end;
-  std::vector<BodyPair> sensor_begin, sensor_end;
+  std::vector<ColliderPair> contact_begin, contact_end;
+  std::vector<ColliderPair> sensor_begin, sensor_end;
   /// Joints whose reaction passed their break force or torque in this step, by joint index.
   std::vector<JointId> joint_broken;
   /// Bodies the continuous pass put back to their first time of impact in this step (their
@@ -369,16 +421,54 @@ public:
   BodyError destroy_body(BodyId id);
   /// True when the id names a live body (its slot's current generation).
   bool is_alive(BodyId id) const noexcept {
-    return id.index < bodies_.size() && bodies_[id.index].alive &&
+    return id.index < bodies_.size() && bodies_[id.index].alive && !bodies_[id.index].standalone &&
            bodies_[id.index].generation == id.generation;
   }
-  /// The id of the live body in slot `index` (std::out_of_range if the slot is free).
+  /// The id of the live body in slot `index` (std::out_of_range if the slot holds no body).
   BodyId body_id(std::uint32_t index) const;
 
-  /// Slots: one more than the largest index ever used, destroyed bodies included.
+  /// Slots: one more than the largest index ever used, destroyed bodies and standalone
+  /// colliders included (Contact::body_a and body_b are slots: collider_id() names them).
   std::size_t body_count() const noexcept { return bodies_.size(); }
   /// Live bodies.
-  std::size_t alive_count() const noexcept { return bodies_.size() - free_slots_.size(); }
+  std::size_t alive_count() const noexcept {
+    return bodies_.size() - free_slots_.size() - standalone_count_;
+  }
+
+  // -------------------------------------------------------------- standalone colliders
+  // Shapes without a body (see the top of this file). Errors as create_body's: non_finite,
+  // bad_material (negative friction or restitution), bad_shape (an empty mesh or height
+  // field); a stale id gets bad_body from setters and std::out_of_range from accessors.
+
+  CreateColliderResult create_collider(ColliderDef const& def);
+  /// Removes the collider and its contacts and overlaps now (their ends are reported by the
+  /// next step); its slot is reused by a later create_body() or create_collider().
+  BodyError destroy_collider(ColliderId id);
+  /// True when the id names a live collider: a live body's, or a live standalone one.
+  bool is_alive(ColliderId id) const noexcept {
+    return id.index < bodies_.size() && bodies_[id.index].alive &&
+           bodies_[id.index].standalone == id.standalone &&
+           bodies_[id.index].generation == id.generation;
+  }
+  /// The collider in slot `index`: a body's or a standalone one (std::out_of_range if free).
+  ColliderId collider_id(std::uint32_t index) const;
+  /// Live standalone colliders.
+  std::size_t collider_count() const noexcept { return standalone_count_; }
+  /// The collider's pose, shape, box, layers, material and sensor flag (any live collider,
+  /// a body's included).
+  Iso3 pose(ColliderId id) const { return slot(id).pose; }
+  BodyShape const& shape(ColliderId id) const { return slot(id).shape; }
+  Aabb3 aabb(ColliderId id) const;
+  CollisionLayers layers(ColliderId id) const { return slot(id).layers; }
+  float friction(ColliderId id) const { return slot(id).friction; }
+  float restitution(ColliderId id) const { return slot(id).restitution; }
+  bool is_sensor(ColliderId id) const { return slot(id).sensor; }
+  /// Teleports a standalone collider (non_finite and bad_body, for a stale id or a body's
+  /// collider: use set_pose, leave it unchanged). It carries no velocity: a dynamic body it
+  /// moves into is pushed out as from a static body that appeared there.
+  BodyError set_collider_pose(ColliderId id, Iso3 const& pose);
+  /// New layers for a standalone collider, effective from the next step (bad_body as above).
+  BodyError set_collider_layers(ColliderId id, CollisionLayers const& layers);
   BodyType type(BodyId id) const { return body(id).type; }
   /// The shape's frame in the world.
   Iso3 pose(BodyId id) const { return body(id).pose; }
@@ -487,26 +577,30 @@ public:
                        std::span<Vec3 const> motions, ShapeCastConfig const& cfg,
                        std::span<std::optional<WorldShapeHit>> out,
                        QueryFilter const& filter = {}) const;
-  /// Bodies whose (grown) bounding boxes overlap `box`, by body index; f returns false to stop.
-  void overlap_aabb(Aabb3 const& box, std::function<bool(BodyId)> const& f,
+  /// Colliders whose (grown) bounding boxes overlap `box`, by slot index; f returns false to
+  /// stop. (Every query reports colliders: a body's, whose id.body() is the body, or a
+  /// standalone one.)
+  void overlap_aabb(Aabb3 const& box, std::function<bool(ColliderId)> const& f,
                     QueryFilter const& filter = {}) const;
-  /// Bodies whose shapes intersect (touch or overlap) the convex shape at `pose`, exactly
-  /// (GJK), by body index.
-  void overlap_shape(BodyShape const& shape, Iso3 const& pose, std::function<bool(BodyId)> const& f,
+  /// Colliders whose shapes intersect (touch or overlap) the convex shape at `pose`, exactly
+  /// (GJK), by slot index.
+  void overlap_shape(BodyShape const& shape, Iso3 const& pose,
+                     std::function<bool(ColliderId)> const& f,
                      QueryFilter const& filter = {}) const;
-  /// The contact manifold of every body within `distance` (>= 0, length units) of the convex
-  /// shape (is_convex_shape) at `pose`, by body index: A is the body, B the shape
+  /// The contact manifold of every collider within `distance` (>= 0, length units) of the
+  /// convex shape (is_convex_shape) at `pose`, by slot index: A is the collider, B the shape
   /// (normal out of the body toward the shape, separation negative when they overlap, only
   /// points with separation <= distance); a mesh body may give up to max_mesh_manifolds
   /// manifolds, one call each. f returns false to stop. Non-finite input or a
   /// negative distance finds nothing.
   void contact_query(BodyShape const& shape, Iso3 const& pose, float distance,
-                     std::function<bool(BodyId, Manifold const&)> const& f,
+                     std::function<bool(ColliderId, Manifold const&)> const& f,
                      QueryFilter const& filter = {}) const;
-  /// Bodies whose shapes contain the point (surface included), by body index.
-  void point_query(Vec3 const& point, std::function<bool(BodyId)> const& f,
+  /// Colliders whose shapes contain the point (surface included), by slot index.
+  void point_query(Vec3 const& point, std::function<bool(ColliderId)> const& f,
                    QueryFilter const& filter = {}) const;
-  /// The body whose surface is nearest the point within max_distance (inside: distance 0).
+  /// The collider whose surface is nearest the point within max_distance (inside: distance
+  /// 0).
   std::optional<WorldPointHit> project_point(Vec3 const& point, float max_distance,
                                              QueryFilter const& filter = {}) const;
 
@@ -578,6 +672,10 @@ public:
     return color_sizes_;
   }
   StepProfile const& last_profile() const noexcept { return profile_; }
+  /// The BVH broad phase (diagnostics: its trees' sizes, what their last optimisation ran, whether
+  /// the static tree's wide copy is fresh), as of the last step or query: edits since then are
+  /// filed by the next one.
+  BvhBroadPhase const& broad_phase() const noexcept { return bvh_; }
 
   /// Sum of 1/2 m v^2 + 1/2 w . I w over dynamic bodies (J).
   double kinetic_energy() const;
@@ -602,6 +700,8 @@ private:
     bool alive = true;
     bool sensor = false;
     bool bullet = false;
+    /// A standalone collider: a static slot no BodyId names (ColliderId::standalone).
+    bool standalone = false;
     /// Distance from the centre of mass to the nearest point of the surface (dynamic bodies;
     /// continuous collision's measure of "fast").
     float min_extent = 0.0f;
@@ -612,6 +712,23 @@ private:
 
   /// The live body `id` names; std::out_of_range otherwise.
   Body const& body(BodyId id) const;
+  /// The live collider's slot; std::out_of_range otherwise.
+  Body const& slot(ColliderId id) const;
+  /// The collider in live slot i.
+  ColliderId collider_at(std::uint32_t i) const noexcept {
+    return {i, bodies_[i].generation, bodies_[i].standalone};
+  }
+  /// A ray's hit on the collider in slot i.
+  WorldRayHit ray_hit(std::uint32_t i, float toi, Vec3 const& point,
+                      Vec3 const& normal) const noexcept {
+    ColliderId const c = collider_at(i);
+    return {c.body(), toi, point, normal, c};
+  }
+  /// Takes slot i (a body or a standalone collider) out of the world: its contacts and
+  /// overlaps end (reported by the next step), the broad phase forgets it, the slot is freed.
+  void release_slot(std::uint32_t i);
+  /// A new slot for b (the last freed one, at its next generation); returns its index.
+  std::uint32_t take_slot(Body&& b, BodyState const& s);
 
   struct Joint {
     JointDef def;
@@ -648,7 +765,7 @@ private:
   void split_sensor_pairs();
   void update_events();
   bool shapes_touch(std::uint32_t a, std::uint32_t b) const;
-  BodyPair pair_ids(std::uint64_t key) const;
+  ColliderPair pair_ids(std::uint64_t key) const;
   bool passes(std::uint32_t i, QueryFilter const& filter) const;
   /// Bodies whose grown boxes overlap `box` and pass the filter, by index (candidates).
   void candidates(Aabb3 const& box, QueryFilter const& filter,
@@ -719,6 +836,7 @@ private:
   std::vector<std::uint64_t> touching_before_, touching_now_; ///< contact pair keys
   std::vector<std::uint64_t> sensor_pairs_, sensor_now_;      ///< candidates, overlaps
   std::vector<std::uint32_t> free_slots_; ///< destroyed bodies' slots, reused last-freed first
+  std::size_t standalone_count_ = 0;      ///< live standalone colliders
   std::vector<Joint> joints_;
   std::vector<std::uint32_t>
       free_joint_slots_; ///< destroyed joints' slots, reused last-freed first
