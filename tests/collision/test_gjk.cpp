@@ -14,6 +14,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <random>
 #include <vector>
 
 using namespace plume;
@@ -776,6 +777,73 @@ TEST_CASE("GJK steps float cannot resolve do not end the query", "[collision][gj
   for (auto const& f : hull.faces())
     worst = std::max(worst, f.normal.dot(at) - f.offset);
   CHECK(std::abs(worst) <= 2e-5f); // on the surface
+}
+
+TEST_CASE("a point inside a sliver tetrahedron is found inside", "[collision][gjk][fuzz]") {
+  // ray_cast regress-gjk-sliver-inside: a tetrahedron 3 m long, 11 mm wide and 6 mm thick, a
+  // point 1.46 mm inside it. The simplex step skipped the tetrahedron as flat (|det| below
+  // sqrt(eps) of its edges' product), so GJK never found the point inside: it cycled between
+  // two faces 1.5e-3 away until the iteration cap, and the solid ray cast from there reported
+  // a hit at toi 0 with a face's normal instead of a start inside.
+  std::vector<Vec3> const pts{{1.5f, -1.49963379f, -1.5f},
+                              {-0.908194065f, -1.49848938f, -1.49414051f},
+                              {1.48832679f, -1.48832691f, -1.5f},
+                              {-1.5f, -1.5f, -1.5f}};
+  ConvexHull const hull = hull_of(pts);
+  Iso3 const pose{Quat::from_xyzw(0.827299297f, -0.213684261f, 0.420613676f, -0.304957271f),
+                  Vec3::splat(-2.58823538f)};
+  Vec3 const from{-3.60076141f, -2.08190966f, -0.792430639f};
+  Vec3 const local = pose.inverse_transform_point(from);
+  for (auto const& f : hull.faces())
+    REQUIRE(f.normal.dot(local) - f.offset < -1e-3f); // inside, 1.46e-3 from the nearest face
+  RayHit const h = ray_cast_gjk(hull, pose, Ray3{from, {-2, -2, -2}}, 0.0f);
+  CHECK(h.hit);
+  CHECK(h.toi == 0.0f);
+  CHECK(h.normal.length() == 0.0f); // a start inside
+  auto const c = closest_points(Sphere{0}, Iso3::from_translation(from), hull, pose);
+  CHECK(c.overlap);
+  CHECK(c.converged);
+
+  // Slivers 1-3 m long, 0.5-3 % as thick (a tetrahedron: three points on a base line's sides,
+  // one above), each with points inside at 20-80 % of the depth of its deepest inner point:
+  // every point found inside by closest_points and by the solid ray cast.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  int cases = 0, missed_cp = 0, missed_ray = 0;
+  for (int k = 0; k < 400; ++k) {
+    float const len = 1.0f + 2.0f * u(rng), wide = len * (0.005f + 0.025f * u(rng));
+    float const thick = wide * (0.3f + 0.7f * u(rng));
+    std::vector<Vec3> const t{{-0.5f * len, 0, 0},
+                              {0.5f * len, -0.5f * wide, 0},
+                              {0.5f * len * (u(rng) - 0.5f), 0.5f * wide, 0},
+                              {0.5f * len * (u(rng) - 0.5f), 0.1f * wide, thick}};
+    ConvexHull const sliver = hull_of(t);
+    REQUIRE(sliver.faces().size() == 4);
+    Quat const q = Quat::from_axis_angle(
+        Vec3{u(rng) - 0.5f, u(rng) - 0.5f, u(rng) + 0.1f}.normalize(), 6.0f * u(rng));
+    Iso3 const at{q, {4 * u(rng) - 2, 4 * u(rng) - 2, 4 * u(rng) - 2}};
+    for (int j = 0; j < 4; ++j) {
+      // A point of the tetrahedron (random barycentric weights), kept if deep enough.
+      float w[4], sum = 0;
+      for (float& x : w)
+        sum += (x = 0.1f + u(rng));
+      Vec3 p{};
+      for (int i = 0; i < 4; ++i)
+        p = p + t[std::size_t(i)] * (w[i] / sum);
+      float depth = 1e30f;
+      for (auto const& f : sliver.faces())
+        depth = std::min(depth, f.offset - f.normal.dot(p));
+      if (depth < 2e-4f * len) continue; // GJK's tolerance is 1e-4: clearly inside only
+      ++cases;
+      Vec3 const pw = at.transform_point(p);
+      missed_cp += !closest_points(Sphere{0}, Iso3::from_translation(pw), sliver, at).overlap;
+      RayHit const r = ray_cast_gjk(sliver, at, Ray3{pw, {0.3f, -1, 0.2f}}, 10.0f);
+      missed_ray += !(r.hit && r.toi == 0.0f && r.normal.length() == 0.0f);
+    }
+  }
+  CHECK(cases > 400);
+  CHECK(missed_cp == 0);
+  CHECK(missed_ray == 0);
 }
 
 TEST_CASE("an edge passing near the origin with far ends gives a perpendicular v",
