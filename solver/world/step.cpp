@@ -134,7 +134,8 @@ void World::update_events() {
   for (std::uint64_t k : sensor_pairs_)
     if (shapes_touch(body_pair_first(k), body_pair_second(k))) sensor_now_.push_back(k);
   diff(sensor_before, sensor_now_, events_.sensor_begin, events_.sensor_end);
-  // destroy_body's ends (already in events_) may interleave: keep each list in pair order.
+  // destroy_body's and destroy_collider's ends (already in events_) may interleave: keep each
+  // list in pair order.
   auto const by_pair = [](ColliderPair const& x, ColliderPair const& y) {
     return body_pair_key(x.a.index, x.b.index) < body_pair_key(y.a.index, y.b.index);
   };

@@ -24,7 +24,7 @@ std::string_view to_string(BodyError e) noexcept {
   case BodyError::bad_material:
     return "negative density, friction, restitution or damping";
   case BodyError::bad_body:
-    return "no such body";
+    return "no such body (or no such standalone collider)";
   case BodyError::bad_shape:
     return "a mesh or height field without triangles, or on a dynamic body";
   }
@@ -155,7 +155,7 @@ BodyError World::set_type(BodyId id, BodyType type) {
                          moving_bodies_.end());
     stale_moving_.erase(std::remove(stale_moving_.begin(), stale_moving_.end(), i),
                         stale_moving_.end());
-    stale_statics_.push_back(i); // the next sync moves it to the static tree
+    mark_stale_static(i); // the next sync moves it to the static tree
   } else {
     if (was == BodyType::static_body) {
       stale_statics_.erase(std::remove(stale_statics_.begin(), stale_statics_.end(), i),
@@ -211,7 +211,7 @@ CreateBodyResult World::create_body(BodyDef const& def) {
   std::uint32_t const index = take_slot(std::move(b), s);
   BodyId const id{index, bodies_[index].generation};
   if (bodies_[id.index].type == BodyType::static_body) {
-    stale_statics_.push_back(id.index);
+    mark_stale_static(id.index);
   } else { // kept in index order: the step visits moving bodies in it
     moving_bodies_.insert(std::lower_bound(moving_bodies_.begin(), moving_bodies_.end(), id.index),
                           id.index);
@@ -258,7 +258,7 @@ CreateColliderResult World::create_collider(ColliderDef const& def) {
   b.sensor = def.sensor;
   std::uint32_t const i = take_slot(std::move(b), BodyState{});
   ++standalone_count_;
-  stale_statics_.push_back(i); // filed in the standalone tree at the next sync
+  mark_stale_static(i); // filed in the standalone tree at the next sync
   trees_synced_ = false;
   return {collider_at(i), BodyError::none};
 }
@@ -298,7 +298,7 @@ BodyError World::set_collider_pose(ColliderId id, Iso3 const& pose) {
   Body& b = bodies_[id.index];
   b.pose = *unit;
   b.center = b.pose.translation;
-  stale_statics_.push_back(id.index);
+  mark_stale_static(id.index);
   trees_synced_ = false;
   return BodyError::none;
 }
@@ -375,7 +375,7 @@ BodyError World::set_pose(BodyId id, Iso3 const& pose) {
   b.pose = *unit;
   b.center = b.pose.transform_point(b.local_center);
   if (b.type == BodyType::static_body)
-    stale_statics_.push_back(id.index);
+    mark_stale_static(id.index);
   else
     mark_stale_moving(id.index);
   trees_synced_ = false;

@@ -2,10 +2,10 @@
 // (solver/character/move_and_slide.hpp) over a few static colliders: a ColliderSetQuery
 // (solver/character/collider_set.hpp: spheres, capsules, boxes, cylinders, hulls, thin
 // triangular prisms, in layers, with a filter) for a capsule, sphere or box character, or a
-// WorldMoveQuery (solver/world/move_query.hpp) over a World of static bodies (the same shapes,
-// a mesh of a triangle or two, a half-space floor). Pose, velocity, dt (0, negative, NaN,
-// huge), the configuration, user planes and the hit callback's answers (accept, ignore,
-// abort; changed normals, velocities, positions, extra planes) are decoded from the bytes.
+// WorldMoveQuery (solver/world/move_query.hpp) over a World of static bodies and standalone
+// colliders (the same shapes, a mesh of a triangle or two, a half-space floor). Pose, velocity, dt
+// (0, negative, NaN, huge), the configuration, user planes and the hit callback's answers (accept,
+// ignore, abort; changed normals, velocities, positions, extra planes) are decoded from the bytes.
 // Properties:
 //  - non-finite pose, velocity or dt, or a negative dt: invalid_input, the input returned
 //    unchanged, nothing queried, no callback;
@@ -528,7 +528,7 @@ void run_collider_set(Input& in) {
 void run_world(Input& in) {
   plume::World world;
   struct Body {
-    plume::BodyId id;
+    plume::ColliderId id; ///< a static body's, or a standalone collider (0x40 of its byte)
     plume::BodyShape shape;
     Iso3 pose;
     std::uint32_t layers;
@@ -555,28 +555,38 @@ void run_world(Input& in) {
     } else {
       def.shape = convex_shape<plume::BodyShape>(in);
     }
-    plume::CreateBodyResult const c = world.create_body(def);
-    PLUME_FUZZ_CHECK(bool(c));
-    bodies.push_back({c.id, def.shape, world.pose(c.id), def.layers.memberships});
+    plume::ColliderId id;
+    if (k & 0x40) {
+      plume::CreateColliderResult const c =
+          world.create_collider({.pose = def.pose, .shape = def.shape, .layers = def.layers});
+      PLUME_FUZZ_CHECK(bool(c));
+      id = c.id;
+    } else {
+      plume::CreateBodyResult const c = world.create_body(def);
+      PLUME_FUZZ_CHECK(bool(c));
+      id = c.id;
+    }
+    bodies.push_back({id, def.shape, world.pose(id), def.layers.memberships});
   }
   plume::WorldMoveQuery const scene(world);
   plume::QueryFilter filter;
   std::vector<plume::BodyId> exclude;
   std::uint8_t const f = in.byte();
   if (f & 1) filter.mask = 1u;
-  if ((f & 2) && !bodies.empty()) {
-    exclude.push_back(bodies[std::size_t(in.byte()) % bodies.size()].id);
+  if ((f & 2) && !bodies.empty()) { // a standalone collider's slot excludes nothing
+    plume::ColliderId const c = bodies[std::size_t(in.byte()) % bodies.size()].id;
+    exclude.push_back(plume::BodyId{c.index, c.generation});
     filter.exclude = exclude;
   }
-  if (f & 4) filter.predicate = [](plume::BodyId id) { return id.index % 3 != 2; };
+  if (f & 4) filter.predicate = [](plume::ColliderId id) { return id.index % 3 != 2; };
   auto const seen = [&](Body const& b) {
     return (b.layers & filter.mask) != 0 &&
-           std::find(exclude.begin(), exclude.end(), b.id) == exclude.end() &&
+           std::find(exclude.begin(), exclude.end(), b.id.body()) == exclude.end() &&
            (!filter.predicate || filter.predicate(b.id));
   };
   std::vector<Vec3> user_planes;
   plume::MoveAndSlideConfig const cfg = decode_config(in, user_planes);
-  std::function<bool(plume::BodyId)> const valid = [&](plume::BodyId id) {
+  std::function<bool(plume::ColliderId)> const valid = [&](plume::ColliderId id) {
     for (Body const& b : bodies)
       if (b.id == id) return world.is_alive(id) && seen(b);
     return false;
@@ -602,15 +612,15 @@ void run_world(Input& in) {
     return d;
   };
   Move const m = decode_move(in);
-  Responder<plume::BodyId> on_hit = decode_responder(in, cfg, valid);
-  Responder<plume::BodyId> const fresh = on_hit;
+  Responder<plume::ColliderId> on_hit = decode_responder(in, cfg, valid);
+  Responder<plume::ColliderId> const fresh = on_hit;
   (void)check_move(scene, shape, m, cfg, filter, on_hit, bodies.size(), deepest);
 
   if (in.flag()) {
     constexpr std::size_t W = plume::lanes_v<plume::f32xN>;
     std::vector<plume::BodyShape> shapes{shape};
     std::vector<Move> moves{m};
-    std::vector<Responder<plume::BodyId>> plans{fresh};
+    std::vector<Responder<plume::ColliderId>> plans{fresh};
     for (std::size_t k = 1; k < W; ++k) {
       shapes.push_back((in.byte() & 1) ? plume::BodyShape{character<plume::Capsule>(in)} : shape);
       moves.push_back(decode_move(in));

@@ -5,10 +5,9 @@
 // (fixed, revolute, prismatic, spherical, distance; bad frames, limits, motors and break
 // thresholds at times), set motors and targets, set poses, velocities, types and layers (NaN and
 // infinities at times), apply impulses, step with dt > 0, 0, negative, NaN or infinite, and run
-// queries; create, teleport and destroy standalone colliders (sensors at times); mirrored by the
-// list of ids it created and destroyed. At most 16 bodies, 8 colliders, 8 joints and 8 steps per
-// input.
-// Properties:
+// queries; create, teleport, re-layer and destroy standalone colliders (sensors at times); mirrored
+// by the list of ids it created and destroyed. At most 16 bodies, 8 colliders, 8 joints and 8 steps
+// per input. Properties:
 //  - every call returns the documented error for the input it got (a refused call leaves the
 //    world unchanged: counts, state hash and the body's own values), and none otherwise;
 //    accessors throw std::out_of_range for stale body and joint ids;
@@ -23,9 +22,9 @@
 //    frozen bodies are listed, events list live-at-the-time pairs in increasing order with the
 //    lower slot first, and joint states are finite; step_with<T> gives the world step() gives for
 //    float and every f32 width the build has;
-//  - queries see only live colliders (a hit's body is its collider's); the closest ray hit is the
-//  first of ray_cast_all and the
-//    batch ray cast gives the single one's bits; non-finite queries find nothing.
+//  - queries see only live colliders (a hit's body is its collider's); the closest ray hit is
+//    the first of ray_cast_all and the batch ray cast gives the single one's bits; non-finite
+//    queries find nothing.
 #include "fuzz_input.hpp"
 
 #include <plume/world.hpp>
@@ -343,7 +342,7 @@ struct Mirror {
       if (b.id == id && b.alive) return &b;
     return nullptr;
   }
-  /// A live id (when there is one and the byte says so) or a stale or never-made one.
+  /// A live id (when there is one and the byte says so) or a stale, forged or never-made one.
   BodyId pick(Input& in) const {
     std::uint8_t const k = in.byte();
     std::vector<BodyId> live, dead;
@@ -351,6 +350,10 @@ struct Mirror {
       (b.alive ? live : dead).push_back(b.id);
     if (!live.empty() && (k & 7) != 0) return live[std::size_t(k >> 3) % live.size()];
     if (!dead.empty() && (k & 8)) return dead[std::size_t(k >> 4) % dead.size()];
+    if (!colliders.empty() && (k & 16)) { // a BodyId forged from a collider's slot
+      ColliderId const c = colliders[std::size_t(k >> 5) % colliders.size()].id;
+      return BodyId{c.index, c.generation};
+    }
     return BodyId{std::uint32_t(40 + (k >> 4)), 0};
   }
   JointId pick_joint(Input& in) const {
@@ -659,6 +662,21 @@ void teleport(plume::World& w, Id id, bool live, Input& in, Set&& set) {
   PLUME_FUZZ_CHECK(e == BodyError::none);
   PLUME_FUZZ_CHECK(same(w.pose(id).translation, p.translation));
   PLUME_FUZZ_CHECK(std::abs(w.pose(id).rotation.length() - 1.0f) < 1e-4f);
+}
+
+void set_collider_layers(plume::World& w, Mirror& m, Input& in) {
+  ColliderId const id = m.pick_collider(in);
+  plume::CollisionLayers l;
+  l.memberships = (in.byte() & 1) ? 2u : 1u;
+  l.filters = (in.byte() & 3) == 0 ? 1u : 0xffffffffu;
+  Snapshot const before(w);
+  BodyError const e = w.set_collider_layers(id, l);
+  if (!m.find_collider(id)) {
+    PLUME_FUZZ_CHECK(e == BodyError::bad_body && Snapshot(w) == before);
+    return;
+  }
+  PLUME_FUZZ_CHECK(e == BodyError::none);
+  PLUME_FUZZ_CHECK(w.layers(id).memberships == l.memberships && w.layers(id).filters == l.filters);
 }
 
 void set_collider_pose(plume::World& w, Mirror& m, Input& in) {
@@ -1022,8 +1040,9 @@ void step(plume::World& w, Mirror& m, Input& in, int& steps) {
       }
     }
   }
-  for (plume::ColliderPair const& p : ev.contact_begin)
-    PLUME_FUZZ_CHECK(w.is_alive(p.a) && w.is_alive(p.b));
+  for (auto const* list : {&ev.contact_begin, &ev.sensor_begin})
+    for (plume::ColliderPair const& p : *list)
+      PLUME_FUZZ_CHECK(w.is_alive(p.a) && w.is_alive(p.b));
   // Swept bodies: live dynamic bodies, each once, by index.
   for (std::size_t i = 0; i < ev.continuous_stops.size(); ++i) {
     BodyId const b = ev.continuous_stops[i];
@@ -1188,6 +1207,8 @@ extern "C" int LLVMFuzzerTestOneInput(std::uint8_t const* data, std::size_t size
         destroy_collider(w, m, in);
       else if ((k & 0x30) == 0x10)
         set_collider_pose(w, m, in);
+      else if ((k & 0xf0) == 0x20)
+        set_collider_layers(w, m, in);
       else
         create_collider(w, m, in);
       break;

@@ -60,7 +60,8 @@ ConvexHull tetra_hull() {
 }
 
 /// A ground half-space and n bodies of every shape, static and dynamic, in [-6, 6]^2 x [0, 5],
-/// half the static ones standalone colliders, stepped 20 times.
+/// half the static ones standalone colliders (every ninth slot destroyed and refilled by the
+/// other kind), stepped 20 times.
 World random_scene(std::uint32_t seed, int n, BroadPhaseKind kind = BroadPhaseKind::bvh) {
   WorldConfig cfg;
   cfg.broad_phase = kind;
@@ -99,6 +100,21 @@ World random_scene(std::uint32_t seed, int n, BroadPhaseKind kind = BroadPhaseKi
       w.create_body({.type = role == 1 ? BodyType::static_body : BodyType::dynamic,
                      .pose = pose,
                      .shape = shape});
+  }
+  // Every ninth slot emptied and refilled by the other kind (a later generation).
+  for (std::uint32_t i = 1; i < w.body_count(); i += 9) {
+    ColliderId const c = w.collider_id(i);
+    BodyShape const shape = w.shape(c);
+    Iso3 const pose = w.pose(c);
+    if (c.standalone) {
+      REQUIRE(w.destroy_collider(c) == BodyError::none);
+      REQUIRE(
+          w.create_body({.type = BodyType::static_body, .pose = pose, .shape = shape}).id.index ==
+          i);
+    } else {
+      REQUIRE(w.destroy_body(c.body()) == BodyError::none);
+      REQUIRE(w.create_collider({.pose = pose, .shape = shape}).id.index == i);
+    }
   }
   for (int s = 0; s < 20; ++s)
     w.step(1.0f / 60.0f);
@@ -308,6 +324,7 @@ TEST_CASE(
 
 TEST_CASE("world queries: points, boxes and shapes against brute force", "[world][queries]") {
   World const w = random_scene(17, 120);
+  REQUIRE(w.collider_count() > 10);
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> at(-7.0f, 7.0f), h(-0.5f, 5.0f);
   float const margin = w.config().speculative_distance;
@@ -316,16 +333,17 @@ TEST_CASE("world queries: points, boxes and shapes against brute force", "[world
     Vec3 const p{at(rng), h(rng), at(rng)};
     INFO("query " << k << " at " << p);
     // point_query
-    std::vector<std::uint32_t> got, want;
+    std::vector<ColliderId> got, want; // whole ids: slot, generation, kind
     w.point_query(p, [&](ColliderId id) {
-      got.push_back(id.index);
+      got.push_back(id);
       return true;
     });
     for (std::uint32_t i = 0; i < w.body_count(); ++i)
       if (brute_distance(w.shape(w.collider_id(i)), w.pose(w.collider_id(i)), p) <= 0.0f)
-        want.push_back(i);
+        want.push_back(w.collider_id(i));
     REQUIRE(got == want);
-    contained += int(std::any_of(got.begin(), got.end(), [](std::uint32_t i) { return i != 0; }));
+    contained +=
+        int(std::any_of(got.begin(), got.end(), [](ColliderId c) { return c.index != 0; }));
     // project_point
     float const reach = 1.5f;
     auto const near = w.project_point(p, reach);
@@ -340,11 +358,12 @@ TEST_CASE("world queries: points, boxes and shapes against brute force", "[world
     got.clear();
     want.clear();
     w.overlap_aabb(box, [&](ColliderId id) {
-      got.push_back(id.index);
+      got.push_back(id);
       return true;
     });
     for (std::uint32_t i = 0; i < w.body_count(); ++i)
-      if (bool(w.aabb(w.collider_id(i)).grow(margin).intersects(box))) want.push_back(i);
+      if (bool(w.aabb(w.collider_id(i)).grow(margin).intersects(box)))
+        want.push_back(w.collider_id(i));
     REQUIRE(got == want);
     // overlap_shape: a box at p, exact
     Cuboid const probe{Vec3{0.5f, 0.3f, 0.7f}};
@@ -352,7 +371,7 @@ TEST_CASE("world queries: points, boxes and shapes against brute force", "[world
     got.clear();
     want.clear();
     w.overlap_shape(probe, probe_pose, [&](ColliderId id) {
-      got.push_back(id.index);
+      got.push_back(id);
       return true;
     });
     for (std::uint32_t i = 0; i < w.body_count(); ++i) {
@@ -378,7 +397,7 @@ TEST_CASE("world queries: points, boxes and shapes against brute force", "[world
             },
             s);
       }
-      if (touch) want.push_back(i);
+      if (touch) want.push_back(w.collider_id(i));
     }
     REQUIRE(got == want);
     overlapped += int(got.size() > 1);
@@ -432,6 +451,7 @@ TEST_CASE("world queries: points, boxes and shapes against brute force", "[world
 TEST_CASE("world queries: contact_query reports every body within the distance, with its manifold",
           "[world][queries]") {
   World const w = random_scene(23, 120);
+  REQUIRE(w.collider_count() > 10);
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> at(-7.0f, 7.0f), h(0.0f, 5.0f);
   Capsule const probe{0.4f, 0.3f};
@@ -440,15 +460,16 @@ TEST_CASE("world queries: contact_query reports every body within the distance, 
   for (int k = 0; k < 200; ++k) {
     Iso3 const pose{Quat::from_rotation_x(at(rng)), {at(rng), h(rng), at(rng)}};
     INFO("query " << k << " at " << pose.translation);
-    std::vector<std::uint32_t> got;
+    std::vector<ColliderId> got;
     w.contact_query(probe, pose, distance, [&](ColliderId id, Manifold const& m) {
-      got.push_back(id.index);
+      got.push_back(id);
       REQUIRE(!m.empty());
       REQUIRE(m.normal.length() == Approx(1).epsilon(1e-4));
       REQUIRE(m.min_separation() <= distance);
       return true;
     });
-    REQUIRE(std::is_sorted(got.begin(), got.end()));
+    REQUIRE(std::is_sorted(got.begin(), got.end(),
+                           [](ColliderId a, ColliderId b) { return a.index < b.index; }));
     reported += int(got.size());
     // An independent oracle: the distance between the probe and each body.
     for (std::uint32_t i = 0; i < w.body_count(); ++i) {
@@ -481,7 +502,7 @@ TEST_CASE("world queries: contact_query reports every body within the distance, 
             },
             s);
       }
-      bool const in = std::find(got.begin(), got.end(), i) != got.end();
+      bool const in = std::find(got.begin(), got.end(), w.collider_id(i)) != got.end();
       INFO("body " << i << " at distance " << d);
       if (d < distance - 1e-3f) REQUIRE(in);
       if (d > distance + 1e-3f) REQUIRE(!in);

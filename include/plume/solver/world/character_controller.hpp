@@ -142,9 +142,9 @@ struct CharacterGround {
   GroundState state = GroundState::in_air;
   BodyId body{};         ///< invalid in the air and on a standalone collider
   ColliderId collider{}; ///< what it stands on (invalid in the air)
-  Vec3 point{};          ///< on the body's surface, world
-  Vec3 normal{};         ///< unit, out of the body (for a V of steep slopes: their mean)
-  Vec3 velocity{};       ///< the body's surface velocity at point (m/s)
+  Vec3 point{};          ///< on the surface stood on, world
+  Vec3 normal{};         ///< unit, out of the surface (for a V of steep slopes: their mean)
+  Vec3 velocity{};       ///< the surface's velocity at point (m/s; zero on a standalone collider)
   float separation = 0.0f;
 };
 

@@ -33,7 +33,7 @@ public:
 
   World const& world() const noexcept { return *world_; }
 
-  /// The first collider the shape touches moving by t * motion, t in [0, 1]; bodies it overlaps
+  /// The first collider the shape touches moving by t * motion, t in [0, 1]; colliders it overlaps
   /// at the start are ignored when the motion leaves them (for cores that overlap, along the
   /// contact manifold's normal); the normal is always unit.
   std::optional<MoveCastHit<ColliderId>> cast(BodyShape const& shape, Iso3 const& pose,

@@ -81,6 +81,7 @@
 #include <plume/spatial/mesh_queries.hpp>
 #include <plume/spatial/triangle_mesh.hpp>
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -192,14 +193,14 @@ enum class BodyError : std::uint8_t {
   non_finite,   ///< pose, velocity or a material value is NaN or infinite
   zero_mass,    ///< a dynamic body whose shape and density give no positive finite mass
   bad_material, ///< negative density, friction, restitution or damping
-  bad_body,     ///< the id names no body
+  bad_body,     ///< the id names no live body (collider calls: no live standalone collider)
   bad_shape,    ///< a MeshShape or HeightFieldShape that is empty or on a dynamic body
 };
 std::string_view to_string(BodyError e) noexcept;
 
 /// A body: its slot and the slot's generation. destroy_body() frees the slot for reuse by a
-/// later create_body() with the next generation, so an id kept past its body's destruction
-/// names no body (accessors throw, setters return bad_body), never the slot's new body.
+/// later create_body() or create_collider() with the next generation, so an id kept past its body's
+/// destruction names no body (accessors throw, setters return bad_body), never the slot's new body.
 struct BodyId {
   std::uint32_t index = ~std::uint32_t(0);
   std::uint32_t generation = 0;
@@ -261,12 +262,14 @@ struct JointDef {
 };
 
 /// Which colliders a world query sees: those in a layer of `mask`, not of a body in `exclude`,
-/// sensors only with `sensors`, and for which `predicate` (when set) returns true.
+/// sensors only with `sensors`, and for which `predicate` (when set) returns true. `exclude`
+/// names bodies only (a BodyId made from a standalone collider's slot excludes nothing): leave
+/// out a standalone collider with the predicate.
 struct QueryFilter {
   std::uint32_t mask = 0xffffffffu;
   std::span<BodyId const> exclude{};
   std::function<bool(ColliderId)> predicate{};
-  bool sensors = true; ///< false: sensor bodies are not seen (a character walks through them)
+  bool sensors = true; ///< false: sensors are not seen (a character walks through them)
 };
 
 /// A ray's hit on a collider: toi in units of the ray's direction, the world point and the
@@ -292,7 +295,7 @@ struct WorldShapeHit {
   ColliderId collider{};
 };
 
-/// The nearest point on a body's surface to a query point (distance 0 and the point itself
+/// The nearest point on a collider's surface to a query point (distance 0 and the point itself
 /// when the point is inside; body and collider as WorldRayHit's).
 struct WorldPointHit {
   BodyId body;
@@ -416,7 +419,8 @@ public:
 
   CreateBodyResult create_body(BodyDef const& def);
 
-  /// Removes the body and its contacts now; its slot is reused by a later create_body().
+  /// Removes the body and its contacts now; its slot is reused by a later create_body() or
+  /// create_collider().
   /// bad_body for an id that names no live body (the world is unchanged).
   BodyError destroy_body(BodyId id);
   /// True when the id names a live body (its slot's current generation).
@@ -463,11 +467,12 @@ public:
   float friction(ColliderId id) const { return slot(id).friction; }
   float restitution(ColliderId id) const { return slot(id).restitution; }
   bool is_sensor(ColliderId id) const { return slot(id).sensor; }
-  /// Teleports a standalone collider (non_finite and bad_body, for a stale id or a body's
-  /// collider: use set_pose, leave it unchanged). It carries no velocity: a dynamic body it
+  /// Teleports a standalone collider (non_finite, and bad_body for a stale id or a body's
+  /// collider (use set_pose), leave it unchanged). It carries no velocity: a dynamic body it
   /// moves into is pushed out as from a static body that appeared there.
   BodyError set_collider_pose(ColliderId id, Iso3 const& pose);
-  /// New layers for a standalone collider, effective from the next step (bad_body as above).
+  /// New layers for a standalone collider: queries see them at once, contacts from the next
+  /// step (bad_body as above).
   BodyError set_collider_layers(ColliderId id, CollisionLayers const& layers);
   BodyType type(BodyId id) const { return body(id).type; }
   /// The shape's frame in the world.
@@ -723,6 +728,17 @@ private:
                       Vec3 const& normal) const noexcept {
     ColliderId const c = collider_at(i);
     return {c.body(), toi, point, normal, c};
+  }
+  /// Files slot i (a static body or a standalone collider) for the next tree sync. The list is
+  /// compacted when it outgrows the slots (a collider teleported every frame in a world that
+  /// syncs only for queries, as sort and sweep's does).
+  void mark_stale_static(std::uint32_t i) {
+    stale_statics_.push_back(i);
+    if (stale_statics_.size() > 2 * bodies_.size() + 16) {
+      std::sort(stale_statics_.begin(), stale_statics_.end());
+      stale_statics_.erase(std::unique(stale_statics_.begin(), stale_statics_.end()),
+                           stale_statics_.end());
+    }
   }
   /// Takes slot i (a body or a standalone collider) out of the world: its contacts and
   /// overlaps end (reported by the next step), the broad phase forgets it, the slot is freed.
