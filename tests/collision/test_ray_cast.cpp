@@ -592,6 +592,39 @@ TEST_CASE("a half-space entered so far that toi overflows: a miss", "[collision]
   CHECK(far.toi == Approx(5e37f));
 }
 
+TEST_CASE("a tiny direction whose toi overflows misses every closed form", "[collision][ray]") {
+  // ray_cast regress-capsule-toi-overflow: a hollow cast at a capsule 12 m away along a
+  // direction of length 1.1e-19: |dir|^2 is subnormal, the root's division overflowed, and the
+  // cast reported a hit at toi +infinity. Every shape, solid and hollow, from 1 to 100 m, with
+  // directions from 1e-17 to 1e-40 long: a hit has a finite toi (a miss otherwise).
+  float const inf = std::numeric_limits<float>::infinity();
+  Iso3 const pose{Quat::from_xyzw(-0.453825444f, -0.749281704f, 0.295525491f, 0.3811616f),
+                  {-3.95629811f, -3.99987793f, 1.20625639f}};
+  Ray3 const found{{-4.41254282f, 7.99707031f, 0.000122070312f},
+                   {5.3809861e-43f, -1.08261392e-19f, -9.165613e-41f}};
+  int hits = 0, misses = 0;
+  auto const check = [&](RayHit const& h) {
+    CHECK((!h.hit || std::isfinite(h.toi)));
+    CHECK((h.hit || h.toi == inf));
+    hits += int(h.hit);
+    misses += int(!h.hit);
+  };
+  for (bool solid : {true, false}) {
+    check(ray_cast(Capsule{1.0f, 0.8f}, pose, found, inf, solid));
+    for (float distance : {1.0f, 10.0f, 100.0f})
+      for (float len : {1e-17f, 1e-19f, 1e-20f, 1e-22f, 1e-30f, 1e-40f}) {
+        Ray3 const r{pose.translation + Vec3{0.1f, distance + 2.0f, -0.2f},
+                     {0.1f * len, -len, 0.05f * len}};
+        check(ray_cast(Sphere{1.0f}, pose, r, inf, solid));
+        check(ray_cast(Capsule{1.0f, 0.8f}, pose, r, inf, solid));
+        check(ray_cast(Cylinder{1.0f, 0.8f}, pose, r, inf, solid));
+        check(ray_cast(Cuboid{Vec3{1.0f, 0.8f, 0.6f}}, pose, r, inf, solid));
+      }
+  }
+  CHECK(hits > 10);   // the longer directions still hit, at huge finite tois
+  CHECK(misses > 10); // the shortest overflow
+}
+
 TEST_CASE("triangles: watertight on a fan, oracle hits, degenerate cases", "[collision][ray]") {
   float const inf = std::numeric_limits<float>::infinity();
   SECTION("a dense ray grid through a 16-triangle fan: every ray inside hits exactly once") {

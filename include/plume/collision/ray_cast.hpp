@@ -22,7 +22,9 @@
 //    outside a direction whose square overflows (|dir| > 1.8e19 in float) misses them, and
 //    from inside a solid sphere or capsule a direction whose dot product with the origin
 //    (relative to the centre, or to the capsule's upper end) overflows counts as
-//    non-finite: a miss (|dir| above about 3e38 / size).
+//    non-finite: a miss (|dir| above about 3e38 / size). A time of impact that overflows float
+//    (a direction so short that its square underflows, say |dir| < 1e-19 for a shape 10 m
+//    away) is a miss too.
 //  - Robust forms (Haines, Guenther and Akenine-Moeller, "Precision Improvements for
 //    Ray/Sphere Intersection", Ray Tracing Gems, 2019): the sphere and cylinder discriminants
 //    are computed as a (r^2 - |f - (b/a) d|^2) = a r^2 - |f x d|^2, without the cancellation
@@ -235,7 +237,10 @@ PLUME_INLINE pre_hit<T> finish(mask_t<T> valid, mask_t<T> inside, ray_interval<T
     h.leaving = inside;
     h.bare = no_lanes<T>();
   }
-  h.hit = h.hit & (h.toi <= max_toi);
+  // A time of impact that overflows (a direction so short that |dir|^2 underflows, divided
+  // into a finite distance) is a miss, as an entry at +infinity is: toi <= min(FLT_MAX,
+  // max_toi), one compare as in the solid paths (min_select keeps a NaN max_toi: a miss).
+  h.hit = h.hit & (h.toi <= plume::min_select(max_value<T>(), max_toi));
   h.at = h.toi;
   h.toi = plume::select(h.hit, h.toi, infinity<T>());
   return h;
