@@ -126,18 +126,12 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
     take(ok & (v.dot(v) < best_d2), v, l, m);
   }
 
-  // The tetrahedron: the origin inside when its four barycentric weights are positive. Flat
-  // when |det| is within 64 eps of |e0| |e1| |e2| (its rounding is a few eps of that), where
-  // its sign is in doubt. Not within sqrt(eps): a sliver 3 m long and 6 mm thick is well
-  // resolved but was skipped as flat, and a point 1.5 mm inside it was never found inside
-  // (GJK cycled between the sliver's faces). A weight's rounding moves the inside test by
-  // about eps |y0| over the sine of a face's angle, however flat the tetrahedron.
+  // The tetrahedron: the origin inside when its four barycentric weights are positive.
   {
     GVec3<T> e0 = y[0] - y0, e1 = y[1] - y0, e2 = y[2] - y0;
     T det = e0.dot(e1.cross(e2));
     T scale = (e0.dot(e0) * e1.dot(e1)) * e2.dot(e2);
-    T flat_k = splat<T>(scalar_t<T>(64)) * eps;
-    mask_t<T> flat = det * det <= (flat_k * flat_k) * scale;
+    mask_t<T> flat = det * det <= eps * scale;
     T rd = one<T>() / plume::select(flat, one<T>(), det);
     T l0 = -y0.dot(e1.cross(e2)) * rd;
     T l1 = -e0.dot(y0.cross(e2)) * rd; // e0 . ((0 - y0) x e2)
