@@ -17,6 +17,12 @@
 // down over the same scene, World::shape_cast_with<T>: `crowd`, 64 groups of 64 within 2 m
 // of each other (a crowd of characters); `random`, each on its own.
 //
+// Sleeping (world_large/10000/<awake|asleep>, items = world steps): 10,000 boxes and spheres
+// (0.8 m, 1.1 m apart) dropped from 0.5 m on a flat 120 m triangle-mesh floor and settled for
+// 3 s, then stepped with the widest batch: `awake` with WorldConfig::sleep off (every body is
+// simulated), `asleep` with it on (the bodies have fallen asleep). The two figures are the
+// step's cost per simulated body and its cost per sleeping one.
+//
 // Every benchmark starts from the same settled world (60 steps after building the scene,
 // copied), so the widths do the same work; the solver-stage figures use the world's own
 // stage timer (StepProfile) as Google Benchmark's manual time.
@@ -27,8 +33,10 @@
 
 #include <algorithm>
 #include <map>
+#include <memory>
 #include <optional>
 #include <random>
+#include <stdexcept>
 #include <string>
 
 using namespace plume;
@@ -41,7 +49,9 @@ World const& settled_pyramid(int layers) {
   static std::map<int, World> cache;
   auto it = cache.find(layers);
   if (it == cache.end()) {
-    World w;
+    WorldConfig cfg;
+    cfg.sleep = false; // the whole step, every step: the solver's measure
+    World w(cfg);
     add_ground(w);
     add_box_pyramid(w, layers);
     for (int s = 0; s < 60; ++s)
@@ -83,6 +93,7 @@ World const& settled_static_scene(int side, BroadPhaseKind kind) {
   if (it == cache.end()) {
     WorldConfig cfg;
     cfg.broad_phase = kind;
+    cfg.sleep = false; // the broad phase's measure: the balls keep their pairs every step
     World w(cfg);
     float const half = 0.5f * float(side - 1);
     for (int i = 0; i < side; ++i)
@@ -119,6 +130,63 @@ void register_static_scene(int side, BroadPhaseKind kind) {
     st.counters["solve_us"] = 1e6 * p.solve;
     st.counters["finalize_us"] = 1e6 * p.finalize;
     st.counters["continuous_us"] = 1e6 * p.continuous;
+  })->Unit(benchmark::kMicrosecond);
+}
+
+/// The 10,000-body scene on a mesh floor, settled 180 steps, with or without sleeping.
+World const& settled_large_scene(bool sleep) {
+  static std::map<bool, World> cache;
+  auto it = cache.find(sleep);
+  if (it == cache.end()) {
+    WorldConfig cfg;
+    cfg.sleep = sleep;
+    World w(cfg);
+    std::vector<Vec3> vertices;
+    std::vector<std::uint32_t> indices;
+    std::uint32_t const n = 101; // 100 x 100 cells of 1.2 m
+    for (std::uint32_t z = 0; z < n; ++z)
+      for (std::uint32_t x = 0; x < n; ++x)
+        vertices.push_back({1.2f * float(x) - 60.0f, 0.0f, 1.2f * float(z) - 60.0f});
+    for (std::uint32_t z = 0; z + 1 < n; ++z)
+      for (std::uint32_t x = 0; x + 1 < n; ++x) {
+        std::uint32_t const a = z * n + x, b = a + 1, c = a + n, d = c + 1;
+        indices.insert(indices.end(), {a, c, b, b, c, d});
+      }
+    auto mesh = TriangleMesh::build(vertices, indices);
+    if (!mesh.ok()) throw std::logic_error("bench_world: the large scene's floor");
+    w.create_body({.type = BodyType::static_body,
+                   .shape = MeshShape{std::make_shared<TriangleMesh const>(std::move(mesh.mesh))}});
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> tilt(-0.3f, 0.3f);
+    for (int i = 0; i < 100; ++i)
+      for (int k = 0; k < 100; ++k) {
+        Vec3 const at{1.1f * float(i) - 54.5f, 0.9f, 1.1f * float(k) - 54.5f};
+        Quat const q = Quat::from_rotation_x(tilt(rng)) * Quat::from_rotation_z(tilt(rng));
+        if ((i + k) % 2 == 0)
+          w.create_body({.pose = Iso3{q, at}, .shape = Cuboid{Vec3::splat(0.4f)}});
+        else
+          w.create_body({.pose = Iso3::from_translation(at), .shape = Sphere{0.4f}});
+      }
+    for (int s = 0; s < 180; ++s)
+      w.step(1.0f / 60.0f);
+    it = cache.emplace(sleep, std::move(w)).first;
+  }
+  return it->second;
+}
+
+void register_large_scene(bool sleep) {
+  std::string const name = std::string("world_large/10000/") + (sleep ? "asleep" : "awake");
+  benchmark::RegisterBenchmark(name.c_str(), [sleep](benchmark::State& st) {
+    World world = settled_large_scene(sleep);
+    plume::bench::run_items(st, 1, [&] { world.step(1.0f / 60.0f); });
+    st.counters["sleeping"] = double(world.sleeping_count());
+    st.counters["contacts"] = double(world.contacts().size());
+    StepProfile const& p = world.last_profile(); // the last step's stages, in microseconds
+    st.counters["broad_us"] = 1e6 * p.broad_phase;
+    st.counters["narrow_us"] = 1e6 * p.narrow_phase;
+    st.counters["solve_us"] = 1e6 * (p.prepare + p.solve);
+    st.counters["finalize_us"] = 1e6 * p.finalize;
+    st.counters["sleep_us"] = 1e6 * p.sleep;
   })->Unit(benchmark::kMicrosecond);
 }
 
@@ -226,6 +294,8 @@ int main(int argc, char** argv) {
   for (int side : {200, 20})
     for (BroadPhaseKind kind : {BroadPhaseKind::bvh, BroadPhaseKind::sort_and_sweep})
       register_static_scene(side, kind);
+  for (bool sleep : {false, true})
+    register_large_scene(sleep);
   for (bool fans : {true, false}) {
     plume::bench::for_each_f32_width([&]<class T>() { register_ray_batch<T>(fans); });
     register_ray_loop(fans);

@@ -141,19 +141,46 @@ void ContactCache::update(std::span<PairManifold const> found, float match_dista
   contacts_ = std::move(next);
 }
 
+namespace {
+
+bool touches(Contact const& c, std::span<std::uint32_t const> bodies) {
+  return std::binary_search(bodies.begin(), bodies.end(), c.body_a) ||
+         std::binary_search(bodies.begin(), bodies.end(), c.body_b);
+}
+
+/// Moves the contacts of `from` that touch one of `bodies` into `to`, both kept sorted by pair
+/// (a pair's contacts keep their order: a pair is never in both lists).
+void move_contacts(std::vector<Contact>& from, std::vector<Contact>& to,
+                   std::span<std::uint32_t const> bodies) {
+  if (bodies.empty() || from.empty()) return;
+  auto const moved = std::stable_partition(from.begin(), from.end(),
+                                           [&](Contact const& c) { return !touches(c, bodies); });
+  if (moved == from.end()) return;
+  std::size_t const old = to.size();
+  to.insert(to.end(), moved, from.end());
+  from.erase(moved, from.end());
+  std::inplace_merge(to.begin(), to.begin() + std::ptrdiff_t(old), to.end(),
+                     [](Contact const& a, Contact const& b) { return key_of(a) < key_of(b); });
+}
+
+} // namespace
+
 void ContactCache::remove_bodies(std::span<std::uint32_t const> bodies) {
   if (bodies.empty()) return;
-  std::vector<Contact> keep;
-  keep.reserve(contacts_.size());
-  for (Contact const& c : contacts_) {
-    bool const hit = std::binary_search(bodies.begin(), bodies.end(), c.body_a) ||
-                     std::binary_search(bodies.begin(), bodies.end(), c.body_b);
-    if (hit)
+  for (std::vector<Contact>* list : {&contacts_, &asleep_})
+    std::erase_if(*list, [&](Contact const& c) {
+      if (!touches(c, bodies)) return false;
       graph_.release(c.color, c.body_a, c.body_b, c.dynamic_a, c.dynamic_b);
-    else
-      keep.push_back(c);
-  }
-  contacts_ = std::move(keep);
+      return true;
+    });
+}
+
+void ContactCache::sleep(std::span<std::uint32_t const> bodies) {
+  move_contacts(contacts_, asleep_, bodies);
+}
+
+void ContactCache::wake(std::span<std::uint32_t const> bodies) {
+  move_contacts(asleep_, contacts_, bodies);
 }
 
 } // namespace plume

@@ -102,6 +102,8 @@ CreateJointResult World::create_joint(JointDef const& def) {
   if (std::isnan(def.break_force) || std::isnan(def.break_torque) || def.break_force < 0.0f ||
       def.break_torque < 0.0f)
     return {{}, JointError::bad_value};
+  wake(def.body_a.index); // a new joint moves what it holds
+  wake(def.body_b.index);
   Joint j;
   j.def = def;
   j.basis_a = *ba;
@@ -137,6 +139,8 @@ void World::release_joint_color(Joint& j) {
 JointError World::destroy_joint(JointId id) {
   if (!is_alive(id)) return JointError::bad_joint;
   Joint& j = joints_[id.index];
+  wake(j.def.body_a.index); // what it held is free to move
+  wake(j.def.body_b.index);
   release_joint_color(j);
   stop_filtering(j);
   Joint dead;
@@ -175,6 +179,8 @@ JointError World::set_motor(JointId id, Motor const& motor) {
   Motor* m = motor_of(j.def.type);
   if (!m) return JointError::bad_joint;
   if (!motor.valid()) return JointError::bad_motor;
+  wake(j.def.body_a.index);
+  wake(j.def.body_b.index);
   *m = motor;
   j.params = std::visit([](auto const& t) { return t.lane_params(); }, j.def.type);
   return JointError::none;
@@ -285,6 +291,7 @@ void World::update_joint_reactions(float h) {
     if (!j.alive || j.broken) continue;
     Body const& a = bodies_[j.def.body_a.index];
     Body const& b = bodies_[j.def.body_b.index];
+    if (!a.active() && !b.active()) continue; // asleep (or between fixed bodies): as it was
     Quat const qa = a.pose.rotation * j.basis_a, qb = b.pose.rotation * j.basis_b;
     Vec3 const x = qa * Vec3::X, y = qa * Vec3::Y, z = qa * Vec3::Z;
     JointImpulses const& l = j.impulses;

@@ -133,12 +133,15 @@ void World::candidates(Aabb3 const& box, QueryFilter const& filter,
 
 BodyError World::set_layers(BodyId id, CollisionLayers const& layers) {
   if (!is_alive(id)) return BodyError::bad_body;
+  wake_around(id.index);
   bodies_[id.index].layers = layers;
+  wake_in(id.index); // pairs the new layers allow
   return BodyError::none;
 }
 
 BodyError World::set_bullet(BodyId id, bool bullet) {
   if (!is_alive(id)) return BodyError::bad_body;
+  wake(id.index);
   bodies_[id.index].bullet = bullet;
   return BodyError::none;
 }

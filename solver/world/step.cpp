@@ -73,10 +73,15 @@ Aabb3 World::grown_aabb(std::uint32_t i) const {
   return {box.min - Vec3::splat(margin), box.max + Vec3::splat(margin)};
 }
 
-/// Broad phase: the pairs of grown AABBs that overlap, at least one body dynamic.
+/// Broad phase: the pairs of grown AABBs that overlap, at least one body dynamic and awake, or
+/// a sleeping body and a kinematic one (which may wake it, or be a sensor it overlaps).
 void World::find_pairs() {
+  auto const kinematic = [&](Body const& x) { return x.moves() && x.type == BodyType::kinematic; };
   auto const keep = [&](std::uint32_t a, std::uint32_t b) {
-    return (bodies_[a].is_dynamic() || bodies_[b].is_dynamic()) &&
+    Body const& x = bodies_[a];
+    Body const& y = bodies_[b];
+    return (x.active() || y.active() || (x.sleeping && kinematic(y)) ||
+            (y.sleeping && kinematic(x))) &&
            bodies_[a].layers.interacts(bodies_[b].layers) &&
            (no_collide_pairs_.empty() || !jointed_no_collide(a, b));
   };
@@ -133,6 +138,23 @@ void World::update_events() {
   sensor_before.swap(sensor_now_);
   for (std::uint64_t k : sensor_pairs_)
     if (shapes_touch(body_pair_first(k), body_pair_second(k))) sensor_now_.push_back(k);
+  if (sleeping_count_ > 0) {
+    // A sleeping body's overlap with a body that cannot move (static, frozen, a collider, or
+    // asleep itself) is not looked at again: it stays as it was.
+    auto const still = [&](Body const& x) {
+      return !x.active() && !(x.moves() && x.type == BodyType::kinematic);
+    };
+    std::size_t const old = sensor_now_.size();
+    for (std::uint64_t k : sensor_before) {
+      Body const& x = bodies_[body_pair_first(k)];
+      Body const& y = bodies_[body_pair_second(k)];
+      if ((x.sleeping || y.sleeping) && still(x) && still(y) &&
+          !std::binary_search(sensor_pairs_.begin(), sensor_pairs_.end(), k))
+        sensor_now_.push_back(k);
+    }
+    std::inplace_merge(sensor_now_.begin(), sensor_now_.begin() + std::ptrdiff_t(old),
+                       sensor_now_.end());
+  }
   diff(sensor_before, sensor_now_, events_.sensor_begin, events_.sensor_end);
   // destroy_body's and destroy_collider's ends (already in events_) may interleave: keep each
   // list in pair order.
@@ -229,7 +251,9 @@ void World::pack_joints(JointBlocks<T>& blocks, float h) const {
     items.clear();
     colors.clear();
     for (std::uint32_t i = 0; i < joints_.size(); ++i)
-      if (Joint const& j = joints_[i]; j.alive && !j.broken && int(j.params.kind) == k) {
+      if (Joint const& j = joints_[i];
+          j.alive && !j.broken && int(j.params.kind) == k &&
+          (bodies_[j.def.body_a.index].active() || bodies_[j.def.body_b.index].active())) {
         items.push_back(i);
         colors.push_back(j.color);
       }
@@ -384,10 +408,14 @@ template <class T>
 void World::step_with(float dt) {
   if (!(dt >= min_dt && dt <= max_dt)) return; // (NaN and infinities fail it too)
   auto const t_start = clock::now();
+  flush_woken();
   events_ = std::move(pending_);
   pending_ = StepEvents{};
   find_pairs();
   split_sensor_pairs();
+  wake_touched();
+  events_.woke_up.insert(events_.woke_up.end(), pending_.woke_up.begin(), pending_.woke_up.end());
+  pending_.woke_up.clear();
   profile_.broad_phase = seconds_since(t_start);
 
   auto const t_narrow = clock::now();
@@ -427,6 +455,22 @@ void World::step_with(float dt) {
   }
   if (config_.broad_phase == BroadPhaseKind::bvh) sync_trees();
   profile_.finalize = seconds_since(t_finalize) - profile_.continuous;
+  auto const t_sleep = clock::now();
+  update_sleep(dt);
+  events_.fell_asleep.insert(events_.fell_asleep.end(), pending_.fell_asleep.begin(),
+                             pending_.fell_asleep.end());
+  pending_.fell_asleep.clear();
+  auto const by_body = [](BodyId a, BodyId b) {
+    return a.index != b.index ? a.index < b.index : a.generation < b.generation;
+  };
+  for (std::vector<BodyId>* list : {&events_.woke_up, &events_.fell_asleep}) {
+    std::sort(list->begin(), list->end(), by_body);
+    list->erase(std::unique(list->begin(), list->end()), list->end());
+  }
+  // Destroyed since (a generation behind), or woken again since they fell asleep: left out.
+  std::erase_if(events_.woke_up, [&](BodyId b) { return !is_alive(b); });
+  std::erase_if(events_.fell_asleep, [&](BodyId b) { return !is_alive(b) || !is_sleeping(b); });
+  profile_.sleep = seconds_since(t_sleep);
   profile_.total = seconds_since(t_start);
 }
 

@@ -73,6 +73,35 @@ float shape_min_extent(BodyShape const& shape, Vec3 const& c) {
       shape);
 }
 
+/// The distance from c (in the shape's frame: its centre of mass) to the farthest point of the
+/// shape: exact for the primitives and hulls; 0 for shapes without an inside.
+float shape_max_extent(BodyShape const& shape, Vec3 const& c) {
+  return std::visit(
+      [&](auto const& s) -> float {
+        using S = std::decay_t<decltype(s)>;
+        if constexpr (std::is_same_v<S, Sphere>) {
+          return c.length() + s.radius;
+        } else if constexpr (std::is_same_v<S, Capsule>) {
+          Vec3 const top{0.0f, s.half_height, 0.0f};
+          return std::max((c - top).length(), (c + top).length()) + s.radius;
+        } else if constexpr (std::is_same_v<S, Cuboid>) {
+          return (c.abs() + s.half_extents).length();
+        } else if constexpr (std::is_same_v<S, Cylinder>) {
+          float const rim = std::sqrt(c.x * c.x + c.z * c.z) + s.radius;
+          float const cap = std::abs(c.y) + s.half_height;
+          return std::sqrt(rim * rim + cap * cap);
+        } else if constexpr (std::is_same_v<S, ConvexHull>) {
+          float d = 0.0f;
+          for (Vec3 const& v : s.vertices())
+            d = std::max(d, (v - c).length());
+          return d;
+        } else {
+          return 0.0f;
+        }
+      },
+      shape);
+}
+
 /// The pose with its rotation normalised; none when it is not finite or its rotation has no
 /// finite non-zero length.
 std::optional<Iso3> normalised(Iso3 const& pose) {
@@ -119,6 +148,7 @@ bool World::give_mass(Body& b) {
   auto const inv = mp.inertia.try_inverse();
   b.inv_inertia_local = inv.valid && inv.value.is_finite() ? inv.value : Mat3::ZERO;
   b.min_extent = shape_min_extent(b.shape, b.local_center);
+  b.max_extent = shape_max_extent(b.shape, b.local_center);
   return true;
 }
 
@@ -127,6 +157,12 @@ BodyError World::set_type(BodyId id, BodyType type) {
   std::uint32_t const i = id.index;
   Body& b = bodies_[i];
   if (b.type == type && !b.frozen) return BodyError::none;
+  if (type == BodyType::dynamic) { // checked before anything wakes: a refusal changes nothing
+    if (triangle_shape(b.shape)) return BodyError::bad_shape;
+    Body probe = b;
+    if (!give_mass(probe)) return BodyError::zero_mass;
+  }
+  wake_around(i);
   if (type == BodyType::dynamic) {
     if (triangle_shape(b.shape)) return BodyError::bad_shape;
     Body probe = b;
@@ -176,10 +212,11 @@ World::World(WorldConfig const& cfg) : config_(cfg) {
 CreateBodyResult World::create_body(BodyDef const& def) {
   if (!def.pose.is_finite() || !finite(def.linear_velocity) || !finite(def.angular_velocity) ||
       !finite(def.density) || !finite(def.friction) || !finite(def.restitution) ||
-      !finite(def.linear_damping) || !finite(def.angular_damping) || !finite(def.gravity_scale))
+      !finite(def.linear_damping) || !finite(def.angular_damping) || !finite(def.gravity_scale) ||
+      !finite(def.sleep_threshold))
     return {{}, BodyError::non_finite};
   if (def.density < 0.0f || def.friction < 0.0f || def.restitution < 0.0f ||
-      def.linear_damping < 0.0f || def.angular_damping < 0.0f)
+      def.linear_damping < 0.0f || def.angular_damping < 0.0f || def.sleep_threshold < 0.0f)
     return {{}, BodyError::bad_material};
   if (triangle_shape(def.shape, true) ||
       (def.type == BodyType::dynamic && triangle_shape(def.shape)))
@@ -200,6 +237,8 @@ CreateBodyResult World::create_body(BodyDef const& def) {
   b.sensor = def.sensor;
   b.bullet = def.bullet;
   b.density = def.density;
+  b.sleep_enabled = def.enable_sleep;
+  b.sleep_threshold = def.sleep_threshold;
   if (def.type == BodyType::dynamic && !give_mass(b)) return {{}, BodyError::zero_mass};
   b.center = b.pose.transform_point(b.local_center);
 
@@ -218,6 +257,11 @@ CreateBodyResult World::create_body(BodyDef const& def) {
     mark_stale_moving(id.index);
   }
   trees_synced_ = false;
+  if (def.type != BodyType::dynamic) {
+    wake_in(id.index); // what it appears on must move out of it
+  } else if (!def.awake && def.enable_sleep && config_.sleep) {
+    sleep_islands({{id.index}});
+  }
   return {id, BodyError::none};
 }
 
@@ -260,6 +304,7 @@ CreateColliderResult World::create_collider(ColliderDef const& def) {
   ++standalone_count_;
   mark_stale_static(i); // filed in the standalone tree at the next sync
   trees_synced_ = false;
+  wake_in(i);
   return {collider_at(i), BodyError::none};
 }
 
@@ -295,17 +340,21 @@ BodyError World::set_collider_pose(ColliderId id, Iso3 const& pose) {
   if (!is_alive(id) || !id.standalone) return BodyError::bad_body;
   std::optional<Iso3> const unit = normalised(pose);
   if (!unit) return BodyError::non_finite;
+  wake_around(id.index);
   Body& b = bodies_[id.index];
   b.pose = *unit;
   b.center = b.pose.translation;
   mark_stale_static(id.index);
   trees_synced_ = false;
+  wake_in(id.index);
   return BodyError::none;
 }
 
 BodyError World::set_collider_layers(ColliderId id, CollisionLayers const& layers) {
   if (!is_alive(id) || !id.standalone) return BodyError::bad_body;
+  wake_around(id.index);
   bodies_[id.index].layers = layers;
+  wake_in(id.index);
   return BodyError::none;
 }
 
@@ -334,6 +383,8 @@ BodyError World::destroy_body(BodyId id) {
 }
 
 void World::release_slot(std::uint32_t i) {
+  wake_around(i); // what it held up, or touched, moves on; its own island too
+  flush_woken();  // its contacts, woken or not, end below
   // Its contacts and sensor overlaps end now: the next step reports them.
   auto const end_pairs = [&](std::vector<std::uint64_t>& keys, std::vector<ColliderPair>& ended) {
     std::erase_if(keys, [&](std::uint64_t k) {
@@ -371,6 +422,7 @@ BodyError World::set_pose(BodyId id, Iso3 const& pose) {
   if (!is_alive(id)) return BodyError::bad_body;
   std::optional<Iso3> const unit = normalised(pose);
   if (!unit) return BodyError::non_finite;
+  wake_around(id.index);
   Body& b = bodies_[id.index];
   b.pose = *unit;
   b.center = b.pose.transform_point(b.local_center);
@@ -379,6 +431,7 @@ BodyError World::set_pose(BodyId id, Iso3 const& pose) {
   else
     mark_stale_moving(id.index);
   trees_synced_ = false;
+  wake_in(id.index);
   return BodyError::none;
 }
 
@@ -386,6 +439,7 @@ BodyError World::set_velocity(BodyId id, Vec3 const& linear, Vec3 const& angular
   if (!is_alive(id)) return BodyError::bad_body;
   if (!finite(linear) || !finite(angular)) return BodyError::non_finite;
   if (bodies_[id.index].type == BodyType::static_body) return BodyError::none;
+  wake(id.index);
   states_[id.index].linear_velocity = linear;
   states_[id.index].angular_velocity = angular;
   return BodyError::none;
@@ -403,6 +457,7 @@ BodyError World::apply_impulse(BodyId id, Vec3 const& impulse, Vec3 const& point
   if (!finite(impulse) || !finite(point)) return BodyError::non_finite;
   Body const& b = bodies_[id.index];
   if (!b.is_dynamic()) return BodyError::none;
+  wake(id.index);
   Mat3 const inv_inertia = b.inv_inertia_local.rotate_inertia(Mat3::from_quat(b.pose.rotation));
   BodyState& s = states_[id.index];
   s.linear_velocity = s.linear_velocity + impulse * b.inv_mass;

@@ -5,7 +5,9 @@
 // (fixed, revolute, prismatic, spherical, distance; bad frames, limits, motors and break
 // thresholds at times), set motors and targets, set poses, velocities, types and layers (NaN and
 // infinities at times), apply impulses, step with dt > 0, 0, negative, NaN or infinite, and run
-// queries; create, teleport, re-layer and destroy standalone colliders (sensors at times); mirrored
+// queries; create, teleport, re-layer and destroy standalone colliders (sensors at times); put
+// bodies to sleep and wake them, create them asleep, change their sleep settings (bad
+// thresholds at times; a short time_to_sleep so that islands fall asleep within 8 steps); mirrored
 // by the list of ids it created and destroyed. At most 16 bodies, 8 colliders, 8 joints and 8 steps
 // per input. Properties:
 //  - every call returns the documented error for the input it got (a refused call leaves the
@@ -22,6 +24,9 @@
 //    frozen bodies are listed, events list live-at-the-time pairs in increasing order with the
 //    lower slot first, and joint states are finite; step_with<T> gives the world step() gives for
 //    float and every f32 width the build has;
+//  - sleeping: sleeping_count() counts the sleeping bodies, each dynamic, unfrozen and stopped;
+//    a body created asleep (or put to sleep) is asleep, a woken one awake; fell_asleep lists,
+//    by index, bodies asleep after the step;
 //  - queries see only live colliders (a hit's body is its collider's); the closest ray hit is
 //    the first of ray_cast_all and the batch ray cast gives the single one's bits; non-finite
 //    queries find nothing.
@@ -369,6 +374,15 @@ struct Mirror {
 
 void check_mirror(plume::World const& w, Mirror const& m) {
   PLUME_FUZZ_CHECK(w.alive_count() == m.alive());
+  std::size_t sleeping = 0;
+  for (MirrorBody const& b : m.bodies)
+    if (b.alive && w.is_sleeping(b.id)) {
+      ++sleeping;
+      PLUME_FUZZ_CHECK(w.type(b.id) == plume::BodyType::dynamic && !w.is_frozen(b.id));
+      PLUME_FUZZ_CHECK(same(w.linear_velocity(b.id), Vec3{}) &&
+                       same(w.angular_velocity(b.id), Vec3{}));
+    }
+  PLUME_FUZZ_CHECK(w.sleeping_count() == sleeping);
   PLUME_FUZZ_CHECK(w.collider_count() == m.alive_colliders());
   PLUME_FUZZ_CHECK(w.joint_count() == m.alive_joints());
   std::size_t slots = 0;
@@ -450,6 +464,11 @@ void create_body(plume::World& w, Mirror& m, Input& in) {
   std::uint8_t const fast = in.byte();
   def.bullet = (fast & 1) != 0;
   if (fast & 2) def.linear_velocity = def.linear_velocity * 60.0f; // up to 300 m/s
+  // Sleep settings: created asleep, never sleeping, a threshold (bad at times).
+  std::uint8_t const sleepy = in.byte();
+  def.awake = (sleepy & 3) != 0;
+  def.enable_sleep = (sleepy & 4) == 0;
+  if (sleepy & 8) def.sleep_threshold = material(in, 0, 2, f);
 
   // The documented errors this definition has.
   bool const non_finite = bad_pose || bad_v || bad_w || f.non_finite || g.non_finite;
@@ -522,7 +541,10 @@ void create_body(plume::World& w, Mirror& m, Input& in) {
   PLUME_FUZZ_CHECK(same(w.pose(id).translation, def.pose.translation));
   Quat const q = w.pose(id).rotation;
   PLUME_FUZZ_CHECK(finite(q) && std::abs(q.length() - 1.0f) < 1e-4f);
-  if (def.type == plume::BodyType::static_body) {
+  bool const asleep = def.type == plume::BodyType::dynamic && !def.awake && w.config().sleep;
+  PLUME_FUZZ_CHECK(w.is_sleeping(id) == asleep);
+  PLUME_FUZZ_CHECK(w.sleep_enabled(id) == def.enable_sleep);
+  if (def.type == plume::BodyType::static_body || asleep) {
     PLUME_FUZZ_CHECK(same(w.linear_velocity(id), Vec3{}) && same(w.angular_velocity(id), Vec3{}));
   } else {
     PLUME_FUZZ_CHECK(same(w.linear_velocity(id), def.linear_velocity));
@@ -1051,6 +1073,14 @@ void step(plume::World& w, Mirror& m, Input& in, int& steps) {
   }
   for (JointId const j : ev.joint_broken)
     PLUME_FUZZ_CHECK(w.is_alive(j));
+  for (auto const* list : {&ev.woke_up, &ev.fell_asleep})
+    for (std::size_t i = 1; i < list->size(); ++i)
+      PLUME_FUZZ_CHECK((*list)[i - 1].index < (*list)[i].index ||
+                       ((*list)[i - 1].index == (*list)[i].index &&
+                        (*list)[i - 1].generation < (*list)[i].generation));
+  for (BodyId const b : ev.fell_asleep)
+    PLUME_FUZZ_CHECK(w.is_alive(b) && w.is_sleeping(b));
+  if (!w.config().sleep) PLUME_FUZZ_CHECK(w.sleeping_count() == 0);
   for (MirrorJoint const& j : m.joints) {
     if (!j.alive) continue;
     plume::JointState const st = w.joint_state(j.id);
@@ -1061,6 +1091,55 @@ void step(plume::World& w, Mirror& m, Input& in, int& steps) {
                      plume::fuzz::finite(st.reaction_torque));
   }
   PLUME_FUZZ_CHECK(std::isfinite(w.kinetic_energy()));
+}
+
+void sleep_op(plume::World& w, Mirror& m, Input& in) {
+  std::uint8_t const k = in.byte();
+  BodyId const id = m.pick(in);
+  MirrorBody const* b = m.find(id);
+  Snapshot const before(w);
+  BodyError e = BodyError::none;
+  switch (k % 5) {
+  case 0:
+  case 1:
+    e = w.set_awake(id, k % 5 == 1);
+    if (b && e == BodyError::none) {
+      if (k % 5 == 1)
+        PLUME_FUZZ_CHECK(!w.is_sleeping(id));
+      else
+        PLUME_FUZZ_CHECK(
+            w.is_sleeping(id) ==
+            (w.config().sleep && w.type(id) == plume::BodyType::dynamic && !w.is_frozen(id)));
+    }
+    break;
+  case 2:
+    w.wake_all();
+    PLUME_FUZZ_CHECK(w.sleeping_count() == 0);
+    return;
+  case 3:
+    e = w.set_sleep_enabled(id, (k & 8) != 0);
+    if (b && e == BodyError::none) {
+      PLUME_FUZZ_CHECK(w.sleep_enabled(id) == ((k & 8) != 0));
+      if (!(k & 8)) PLUME_FUZZ_CHECK(!w.is_sleeping(id));
+    }
+    break;
+  default: {
+    Faults f;
+    float const t = material(in, 0, 2, f);
+    e = w.set_sleep_threshold(id, t);
+    if (b) {
+      PLUME_FUZZ_CHECK(e == (f.non_finite ? BodyError::non_finite
+                             : f.negative ? BodyError::bad_material
+                                          : BodyError::none));
+      if (e == BodyError::none)
+        PLUME_FUZZ_CHECK(same(w.sleep_threshold(id), t) && !w.is_sleeping(id));
+      else
+        PLUME_FUZZ_CHECK(Snapshot(w) == before);
+    }
+    break;
+  }
+  }
+  if (!b) PLUME_FUZZ_CHECK(e == BodyError::bad_body && Snapshot(w) == before);
 }
 
 void query(plume::World const& w, Mirror& m, Input& in) {
@@ -1159,6 +1238,8 @@ extern "C" int LLVMFuzzerTestOneInput(std::uint8_t const* data, std::size_t size
     cfg.relax_iterations = in.integer(0, 3);
   }
   if (c & 8) cfg.gravity = in.vec3(-20, 20);
+  if (c & 16) cfg.sleep = false;
+  if (c & 32) cfg.time_to_sleep = in.real(0, 0.1f); // islands fall asleep within the steps
   plume::World w(cfg);
   Mirror m;
   int steps = 0;
@@ -1201,6 +1282,9 @@ extern "C" int LLVMFuzzerTestOneInput(std::uint8_t const* data, std::size_t size
     case 11:
     case 12:
       step(w, m, in, steps);
+      break;
+    case 13:
+      sleep_op(w, m, in);
       break;
     case 14:
       if ((k & 0x30) == 0)

@@ -17,6 +17,9 @@
 // Colours: a contact keeps its colour; the colours of ended contacts are freed before new
 // contacts are coloured, in pair order, so the colouring depends only on the sequence of
 // steps, never on the SIMD width.
+// Sleeping: the contacts of sleeping bodies are set aside (sleep()) with their manifolds,
+// impulses and colours, untouched by update(), until wake() puts them back among the awake
+// contacts, where the next update() matches them as any previous contact.
 #pragma once
 
 #include <plume/collision/manifold.hpp>
@@ -58,10 +61,12 @@ ContactImpulses carry_impulses(Manifold const& now, Manifold const& before,
 
 class ContactCache {
 public:
-  /// This step's contacts, sorted by (body_a, body_b); a pair's several contacts (a mesh) in
-  /// the narrow phase's order.
+  /// This step's contacts of awake bodies, sorted by (body_a, body_b); a pair's several
+  /// contacts (a mesh) in the narrow phase's order.
   std::span<Contact const> contacts() const noexcept { return contacts_; }
   std::span<Contact> contacts() noexcept { return contacts_; }
+  /// The contacts set aside by sleep(), sorted as contacts().
+  std::span<Contact const> sleeping_contacts() const noexcept { return asleep_; }
   /// The graph colour of every contact, in contact order (what the solver packs by).
   std::vector<int> colors() const;
 
@@ -78,11 +83,19 @@ public:
   /// ones are coloured.
   void update(std::span<PairManifold const> found, float match_distance);
 
-  /// Ends every contact of one of `bodies` (sorted indices), freeing its colour.
+  /// Ends every contact (awake or set aside) of one of `bodies` (sorted indices), freeing its
+  /// colour.
   void remove_bodies(std::span<std::uint32_t const> bodies);
+
+  /// Sets aside the awake contacts of one of `bodies` (sorted indices): update() keeps them
+  /// as they are (their colours stay taken) until wake().
+  void sleep(std::span<std::uint32_t const> bodies);
+  /// Puts back among the awake contacts the set-aside contacts of one of `bodies` (sorted).
+  void wake(std::span<std::uint32_t const> bodies);
 
 private:
   std::vector<Contact> contacts_;
+  std::vector<Contact> asleep_; ///< set aside by sleep(), sorted as contacts_
   ConstraintGraph graph_;
 };
 

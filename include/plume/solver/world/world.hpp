@@ -55,9 +55,24 @@
 // may be teleported at any time (set_collider_pose). Queries and events name what they meet by
 // ColliderId: a body's (its BodyId converts) or a standalone collider's (no body).
 //
-// Out of scope for this version (named, not stubbed): sleeping (every dynamic body is
-// simulated each step; a per-body flag would slot in where frozen bodies are skipped) and
-// compound bodies (one shape per body).
+// Sleeping (WorldConfig::sleep, on by default): dynamic bodies touching each other (contacts
+// with manifold points) or jointed form islands; an island falls asleep at the end of a step
+// when each of its bodies has stayed below its sleep threshold (BodyDef::sleep_threshold,
+// 0.05 m/s, on the speed of its farthest point |v| + |w| max_extent, Box2D v3's measure) for
+// WorldConfig::time_to_sleep (0.5 s). A sleeping body stops (velocities zero), keeps its
+// contacts, sensor overlaps and joints (no events), and costs the step nothing but its broad
+// phase pairs' box tests. Its island wakes when an awake dynamic body, or a kinematic body
+// with a velocity, touches one of its bodies (at the start of a step: the wake is in that
+// step), on every setter of one of its bodies or joints, when a body, collider or joint it
+// touches is destroyed, teleported or re-layered, when a static body or collider is created
+// over it, and on demand (set_awake, wake_all). A body that touches a kinematic body with a
+// velocity, or whose sleeping is disabled (BodyDef::enable_sleep), keeps its island awake.
+// Islands are found anew each step from the awake contacts and joints, in body index order,
+// so sleeping is as deterministic as the rest of the step (every width and build).
+// StepEvents::fell_asleep and woke_up report the changes. No callback runs during a step, so
+// nothing can wake a body mid-step.
+//
+// Out of scope for this version (named, not stubbed): compound bodies (one shape per body).
 #pragma once
 
 #include <plume/collision/convex_hull.hpp>
@@ -186,13 +201,23 @@ struct BodyDef {
   /// for projectiles, at the cost of a sweep through every tree. Two bullets are not swept
   /// against each other.
   bool bullet = false;
+  /// false: the body never sleeps and keeps every body it touches awake (a player's body).
+  bool enable_sleep = true;
+  /// m/s: the body may sleep while |v| + |w| x max extent (the speed of its farthest point
+  /// from its centre of mass) stays at most this (Box2D v3's default). Finite and >= 0, else
+  /// bad_material.
+  float sleep_threshold = 0.05f;
+  /// false: a dynamic body created asleep, in an island of its own (a stack placed at rest
+  /// sleeps until something touches it). Other types, and bodies with enable_sleep false,
+  /// ignore it.
+  bool awake = true;
 };
 
 enum class BodyError : std::uint8_t {
   none,
   non_finite,   ///< pose, velocity or a material value is NaN or infinite
   zero_mass,    ///< a dynamic body whose shape and density give no positive finite mass
-  bad_material, ///< negative density, friction, restitution or damping
+  bad_material, ///< negative density, friction, restitution, damping or sleep threshold
   bad_body,     ///< the id names no live body (collider calls: no live standalone collider)
   bad_shape,    ///< a MeshShape or HeightFieldShape that is empty or on a dynamic body
 };
@@ -340,6 +365,12 @@ struct StepEvents {
   /// Bodies the continuous pass put back to their first time of impact in this step (their
   /// velocities unchanged: the next step's contact stops them), by body index.
   std::vector<BodyId> continuous_stops;
+  /// Dynamic bodies that woke since the last step began (by a setter, a destroy, set_awake,
+  /// or a touch found at this step's start) and are alive, and those asleep at this step's
+  /// end that fell asleep since it began (the step's islands, set_awake(false), created
+  /// asleep), each by body index, each body once. A body woken and put to sleep again in
+  /// between is in both.
+  std::vector<BodyId> woke_up, fell_asleep;
 };
 
 struct CreateBodyResult {
@@ -394,6 +425,13 @@ struct WorldConfig {
   /// ccd_fraction <= 0 sweeps every body that moved; NaN sweeps none.
   bool continuous = true;
   float ccd_fraction = 0.5f;
+  /// Sleeping (the top of this header): islands of dynamic bodies whose bodies all stayed
+  /// below their sleep thresholds for time_to_sleep seconds fall asleep. false: no body
+  /// sleeps (bodies asleep when it is turned off wake at the next step).
+  bool sleep = true;
+  /// s (Box2D v3's b2_timeToSleep). 0 or less: an island sleeps in the first step all its
+  /// bodies are below their thresholds; NaN: never.
+  float time_to_sleep = 0.5f;
   /// The gap a sweep stops at (m): a quarter of the speculative distance, so that the next
   /// step finds the contact.
   float ccd_distance() const noexcept { return 0.25f * speculative_distance; }
@@ -407,10 +445,13 @@ struct WorldConfig {
 /// Seconds spent in each part of the last step (std::chrono::steady_clock).
 /// joints: the part of solve spent in the joint passes (warm start, solve, relax).
 /// continuous: the sweeps of fast bodies (after finalize, not part of it).
+/// sleep: finding islands and putting them to sleep (after continuous, not part of finalize);
+/// the waking of touched islands at the step's start is part of broad_phase.
 struct StepProfile {
   double broad_phase = 0, narrow_phase = 0, prepare = 0, solve = 0, finalize = 0, total = 0;
   double joints = 0;
   double continuous = 0;
+  double sleep = 0;
 };
 
 class World {
@@ -520,6 +561,33 @@ public:
   /// Makes the body a bullet or not (BodyDef::bullet), effective from the next step. bad_body
   /// for a stale id.
   BodyError set_bullet(BodyId id, bool bullet);
+
+  // -------------------------------------------------------------- sleeping
+  // (the rules are at the top of this header). Every setter above wakes the body's island.
+
+  /// True for a dynamic body that is asleep (every other body: false).
+  bool is_sleeping(BodyId id) const { return body(id).sleeping; }
+  /// awake: wakes the body's island. !awake: puts the body's island to sleep now, the awake
+  /// dynamic bodies that touch it (contacts of the last step) or are jointed to it, directly
+  /// or through others, included, each stopped; an island with a body whose sleeping is
+  /// disabled stays awake. Static, kinematic and frozen bodies have no island (none: nothing
+  /// to do). bad_body for a stale id.
+  BodyError set_awake(BodyId id, bool awake);
+  /// Wakes every sleeping body.
+  void wake_all();
+  /// false: the body never sleeps (it wakes now) and keeps its island awake (BodyDef::
+  /// enable_sleep). bad_body for a stale id.
+  BodyError set_sleep_enabled(BodyId id, bool enabled);
+  bool sleep_enabled(BodyId id) const { return body(id).sleep_enabled; }
+  /// BodyDef::sleep_threshold (m/s; bad_material when negative, non_finite for NaN or
+  /// infinity; the body is unchanged then). Wakes the body.
+  BodyError set_sleep_threshold(BodyId id, float threshold);
+  float sleep_threshold(BodyId id) const { return body(id).sleep_threshold; }
+  /// How long (s) the body has stayed below its sleep threshold while awake (0 when asleep
+  /// and after a wake).
+  float sleep_time(BodyId id) const { return body(id).sleep_time; }
+  /// Dynamic bodies asleep now.
+  std::size_t sleeping_count() const noexcept { return sleeping_count_; }
 
   // -------------------------------------------------------------- spatial queries
   // Exact queries on the bodies' shapes at their current poses, through the broad phase's
@@ -671,7 +739,11 @@ public:
   void step_with(float dt);
 
   WorldConfig const& config() const noexcept { return config_; }
+  /// The contacts of the last step that the solver worked on (those of awake bodies).
   std::span<Contact const> contacts() const noexcept { return cache_.contacts(); }
+  /// The contacts of sleeping bodies, kept as they were when their island fell asleep (those
+  /// of bodies woken since the last step stay here until the next one).
+  std::span<Contact const> sleeping_contacts() const noexcept { return cache_.sleeping_contacts(); }
   /// Constraints per colour in the last step; index color_count is the overflow.
   std::array<std::size_t, ConstraintGraph::color_count + 1> const& color_sizes() const noexcept {
     return color_sizes_;
@@ -710,9 +782,19 @@ private:
     /// Distance from the centre of mass to the nearest point of the surface (dynamic bodies;
     /// continuous collision's measure of "fast").
     float min_extent = 0.0f;
+    /// Distance from the centre of mass to the farthest point of the surface (dynamic
+    /// bodies; sleeping's measure of speed).
+    float max_extent = 0.0f;
+    bool sleeping = false; ///< a dynamic body asleep (not in moving_bodies_)
+    bool sleep_enabled = true;
+    float sleep_threshold = 0.05f;
+    float sleep_time = 0.0f;                  ///< s below the threshold while awake
+    std::uint32_t island = ~std::uint32_t(0); ///< its sleeping island (islands_) when asleep
     std::uint32_t generation = 0;
     bool moves() const noexcept { return alive && !frozen && type != BodyType::static_body; }
     bool is_dynamic() const noexcept { return alive && !frozen && type == BodyType::dynamic; }
+    /// Simulated this step: a dynamic body that is not asleep.
+    bool active() const noexcept { return is_dynamic() && !sleeping; }
   };
 
   /// The live body `id` names; std::out_of_range otherwise.
@@ -819,6 +901,50 @@ private:
   /// Sweeps the bodies finalize_bodies() found fast (solver/world/continuous.cpp); true when
   /// it left the trees synced to the step's final poses (it syncs them for bullets).
   bool solve_continuous();
+
+  // Sleeping (solver/world/sleep.cpp).
+  /// A kinematic body with a non-zero velocity: it keeps what it touches awake.
+  bool moving_kinematic(std::uint32_t i) const noexcept;
+  /// Wakes the sleeping islands that this step's pairs show touched by an awake dynamic body
+  /// or a moving kinematic one, finding the pairs again after each wake; then drops the pairs
+  /// that have a sleeping body.
+  void wake_touched();
+  /// Sleep timers, islands, and the islands that fall asleep (end of the step).
+  void update_sleep(float dt);
+  /// Puts each group of awake dynamic bodies (each sorted) to sleep as one island, in one
+  /// pass over the contacts however many groups there are.
+  void sleep_islands(std::vector<std::vector<std::uint32_t>> const& groups);
+  /// Wakes the island of body i (nothing if i is not asleep).
+  void wake(std::uint32_t i);
+  /// Wakes these sleeping islands (indices into islands_, repeats allowed) in one pass over
+  /// the sleeping contacts, however many there are.
+  void wake_islands(std::vector<std::uint32_t>& islands);
+  /// Wakes i's island and those of the bodies i touches (contacts, asleep or not) or is
+  /// jointed to: what an edit of i (a teleport, a new type, its destruction) disturbs.
+  void wake_around(std::uint32_t i);
+  /// Wakes the islands of the sleeping bodies whose grown boxes overlap body i's and that
+  /// could touch it (layers, jointed pairs).
+  void wake_in(std::uint32_t i);
+  /// Moves the contacts of the bodies woken since the last call back among the awake ones, and
+  /// their touching pairs back into touching_now_ (wake_islands defers this part).
+  void flush_woken();
+  std::vector<std::uint32_t> woken_; ///< woken bodies whose contacts are still set aside
+  /// Joins, in the union-find `parent` (parent[i] == i for each awake dynamic body i), the
+  /// awake dynamic bodies that the awake contacts and live joints connect.
+  void join_islands(std::vector<std::uint32_t>& parent) const;
+  /// The awake dynamic bodies connected to i through the last step's contacts and the
+  /// joints, i included (sorted).
+  std::vector<std::uint32_t> island_of(std::uint32_t i) const;
+  struct Island {
+    std::vector<std::uint32_t> bodies; ///< sorted; empty: a free slot
+  };
+  std::vector<Island> islands_;             ///< sleeping islands
+  std::vector<std::uint32_t> free_islands_; ///< free slots of islands_, reused last-freed first
+  std::size_t sleeping_count_ = 0;
+  // update_sleep's scratch, by body index (only awake dynamic bodies' entries are used).
+  std::vector<std::uint32_t> parent_;
+  std::vector<float> island_time_;
+  std::vector<std::uint32_t> island_slot_;
   struct FastBody {
     std::uint32_t index;
     Vec3 start; ///< centre of mass where the step began
