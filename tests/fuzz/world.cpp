@@ -45,6 +45,7 @@
 #include <span>
 #include <stdexcept>
 #include <type_traits>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -307,52 +308,53 @@ struct MirrorJoint {
   bool has_motor = false;
 };
 
+/// How many entries of a mirror list are alive.
+template <class Item>
+std::size_t count_alive(std::vector<Item> const& items) {
+  return std::size_t(
+      std::count_if(items.begin(), items.end(), [](Item const& x) { return x.alive; }));
+}
+/// The live entry with this id, or null.
+template <class Item, class Id>
+Item* find_alive(std::vector<Item>& items, Id id) {
+  for (Item& x : items)
+    if (x.id == id && x.alive) return &x;
+  return nullptr;
+}
+/// The ids of a mirror list, live and dead apart, in creation order.
+template <class Item>
+auto live_and_dead(std::vector<Item> const& items) {
+  std::pair<std::vector<decltype(Item::id)>, std::vector<decltype(Item::id)>> out;
+  for (Item const& x : items)
+    (x.alive ? out.first : out.second).push_back(x.id);
+  return out;
+}
+
 struct Mirror {
   std::vector<MirrorBody> bodies; ///< every body ever created, in creation order
   std::vector<MirrorJoint> joints;
   std::vector<MirrorCollider> colliders; ///< every standalone collider ever created
   std::vector<std::uint32_t> free_slots; ///< bodies' and colliders' (they share the slots)
 
-  std::size_t alive_colliders() const {
-    return std::size_t(
-        std::count_if(colliders.begin(), colliders.end(), [](auto const& c) { return c.alive; }));
-  }
-  MirrorCollider* find_collider(ColliderId id) {
-    for (MirrorCollider& c : colliders)
-      if (c.id == id && c.alive) return &c;
-    return nullptr;
-  }
+  std::size_t alive_colliders() const { return count_alive(colliders); }
+  MirrorCollider* find_collider(ColliderId id) { return find_alive(colliders, id); }
   /// A live collider, a stale one, a body's, or one never made.
   ColliderId pick_collider(Input& in) const {
     std::uint8_t const k = in.byte();
-    std::vector<ColliderId> live, dead;
-    for (MirrorCollider const& c : colliders)
-      (c.alive ? live : dead).push_back(c.id);
+    auto const [live, dead] = live_and_dead(colliders);
     if (!live.empty() && (k & 7) > 1) return live[std::size_t(k >> 3) % live.size()];
     if (!dead.empty() && (k & 8)) return dead[std::size_t(k >> 4) % dead.size()];
     if (!bodies.empty() && (k & 7) == 1) return bodies[std::size_t(k >> 3) % bodies.size()].id;
     return ColliderId{std::uint32_t(40 + (k >> 4)), 0, true};
   }
 
-  std::size_t alive() const {
-    return std::size_t(
-        std::count_if(bodies.begin(), bodies.end(), [](auto const& b) { return b.alive; }));
-  }
-  std::size_t alive_joints() const {
-    return std::size_t(
-        std::count_if(joints.begin(), joints.end(), [](auto const& j) { return j.alive; }));
-  }
-  MirrorBody* find(BodyId id) {
-    for (MirrorBody& b : bodies)
-      if (b.id == id && b.alive) return &b;
-    return nullptr;
-  }
+  std::size_t alive() const { return count_alive(bodies); }
+  std::size_t alive_joints() const { return count_alive(joints); }
+  MirrorBody* find(BodyId id) { return find_alive(bodies, id); }
   /// A live id (when there is one and the byte says so) or a stale, forged or never-made one.
   BodyId pick(Input& in) const {
     std::uint8_t const k = in.byte();
-    std::vector<BodyId> live, dead;
-    for (MirrorBody const& b : bodies)
-      (b.alive ? live : dead).push_back(b.id);
+    auto const [live, dead] = live_and_dead(bodies);
     if (!live.empty() && (k & 7) != 0) return live[std::size_t(k >> 3) % live.size()];
     if (!dead.empty() && (k & 8)) return dead[std::size_t(k >> 4) % dead.size()];
     if (!colliders.empty() && (k & 16)) { // a BodyId forged from a collider's slot
@@ -363,9 +365,7 @@ struct Mirror {
   }
   JointId pick_joint(Input& in) const {
     std::uint8_t const k = in.byte();
-    std::vector<JointId> live, dead;
-    for (MirrorJoint const& j : joints)
-      (j.alive ? live : dead).push_back(j.id);
+    auto const [live, dead] = live_and_dead(joints);
     if (!live.empty() && (k & 7) != 0) return live[std::size_t(k >> 3) % live.size()];
     if (!dead.empty() && (k & 8)) return dead[std::size_t(k >> 4) % dead.size()];
     return JointId{std::uint32_t(20 + (k >> 4)), 0};
@@ -916,11 +916,7 @@ void create_joint(plume::World& w, Mirror& m, Input& in) {
   m.joints.push_back({r.id, true, def.body_a, def.body_b, motor});
 }
 
-MirrorJoint* find_joint(Mirror& m, JointId id) {
-  for (MirrorJoint& j : m.joints)
-    if (j.id == id && j.alive) return &j;
-  return nullptr;
-}
+MirrorJoint* find_joint(Mirror& m, JointId id) { return find_alive(m.joints, id); }
 
 void destroy_joint(plume::World& w, Mirror& m, Input& in) {
   JointId const id = m.pick_joint(in);

@@ -178,14 +178,26 @@ TEST_CASE("standalone colliders: contacts are a static body's, bit for bit", "[w
     CHECK(p.a.index < p.b.index);
 }
 
-TEST_CASE("standalone colliders: new layers take effect", "[world][colliders]") {
+/// A 0.5 m box resting on a standalone slab collider after `steps` steps.
+struct BoxOnSlab {
   World w;
-  ColliderId const floor = w.create_collider({.pose = slab_pose, .shape = slab}).id;
-  BodyId const box = w.create_body({.pose = Iso3::from_translation({0, 0.25f, 0}),
-                                    .shape = Cuboid{Vec3::splat(0.25f)}})
-                         .id;
-  for (int s = 0; s < 20; ++s)
-    w.step(1.0f / 60.0f);
+  ColliderId floor;
+  BodyId box;
+  explicit BoxOnSlab(int steps) {
+    floor = w.create_collider({.pose = slab_pose, .shape = slab}).id;
+    box = w.create_body(
+               {.pose = Iso3::from_translation({0, 0.25f, 0}), .shape = Cuboid{Vec3::splat(0.25f)}})
+              .id;
+    for (int s = 0; s < steps; ++s)
+      w.step(1.0f / 60.0f);
+  }
+};
+
+TEST_CASE("standalone colliders: new layers take effect", "[world][colliders]") {
+  BoxOnSlab f(20);
+  World& w = f.w;
+  ColliderId const floor = f.floor;
+  BodyId const box = f.box;
   CHECK(w.pose(box).translation.y == Approx(0.25f).margin(0.01f));
   Ray3 const down{{1, 5, 1}, {0, -1, 0}};
   CHECK(w.ray_cast(down, 10.0f, {.mask = 1})->collider == floor);
@@ -307,13 +319,10 @@ TEST_CASE("standalone colliders: a trigger reports overlaps and takes no respons
 }
 
 TEST_CASE("standalone colliders: teleports and destruction mid-contact", "[world][colliders]") {
-  World w;
-  ColliderId const floor = w.create_collider({.pose = slab_pose, .shape = slab}).id;
-  BodyId const box = w.create_body({.pose = Iso3::from_translation({0, 0.25f, 0}),
-                                    .shape = Cuboid{Vec3::splat(0.25f)}})
-                         .id;
-  for (int s = 0; s < 30; ++s)
-    w.step(1.0f / 60.0f);
+  BoxOnSlab f(30);
+  World& w = f.w;
+  ColliderId const floor = f.floor;
+  BodyId const box = f.box;
   CHECK(w.pose(box).translation.y == Approx(0.25f).margin(0.01f));
   // The floor jumps 10 m away (a teleport): the box falls, and the contact ends.
   REQUIRE(w.set_collider_pose(floor, Iso3::from_translation({10, -0.1f, 0})) == BodyError::none);
