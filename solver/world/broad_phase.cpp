@@ -71,12 +71,14 @@ void BvhBroadPhase::set_box(std::uint32_t index, Aabb3 const& box, ProxyKind kin
 }
 
 void BvhBroadPhase::update_candidates() {
-  auto const dynamic = [&](std::uint32_t i) { return slots_[i].kind == ProxyKind::dynamic; };
+  auto const pair = [&](std::uint32_t i, std::uint32_t j) {
+    return kinds_pair(slots_[i].kind, slots_[j].kind);
+  };
   // Drop the pairs that ended: a body gone or of a kind that no longer pairs, or fat boxes
   // apart.
   auto const ended = [&](std::uint64_t k) {
     std::uint32_t const i = body_pair_first(k), j = body_pair_second(k);
-    if (!slots_[i].live || !slots_[j].live || !(dynamic(i) || dynamic(j))) return true;
+    if (!slots_[i].live || !slots_[j].live || !pair(i, j)) return true;
     return !bool(fat(i).intersects(fat(j)));
   };
   candidates_.erase(std::remove_if(candidates_.begin(), candidates_.end(), ended),
@@ -90,18 +92,19 @@ void BvhBroadPhase::update_candidates() {
     if (!slots_[i].live) continue;
     ++last_queries_;
     Aabb3 const box = fat(i);
-    bool const all = dynamic(i);
+    ProxyKind const own = slots_[i].kind;
     auto const consider = [&](std::uint32_t j) {
       if (j != i && bool(box.intersects(fat(j)))) fresh_.push_back(body_pair_key(i, j));
     };
     AabbTree const& statics = trees_[std::size_t(ProxyKind::static_body)];
-    if (all)
+    if (kinds_pair(own, ProxyKind::static_body))
       query_static(box, [&](ProxyId p) {
         consider(std::uint32_t(statics.user(p)));
         return true;
       });
-    for (ProxyKind kind : {ProxyKind::kinematic, ProxyKind::dynamic, ProxyKind::standalone}) {
-      if (!all && kind != ProxyKind::dynamic) continue;
+    for (ProxyKind kind :
+         {ProxyKind::kinematic, ProxyKind::dynamic, ProxyKind::standalone, ProxyKind::sleeping}) {
+      if (!kinds_pair(own, kind)) continue;
       AabbTree const& t = trees_[std::size_t(kind)];
       t.query(box, [&](ProxyId p) {
         consider(std::uint32_t(t.user(p)));
@@ -109,7 +112,7 @@ void BvhBroadPhase::update_candidates() {
       });
     }
     for (std::uint32_t j : unbounded_)
-      if (all || dynamic(j)) consider(j);
+      if (pair(i, j)) consider(j);
   }
   moved_.clear();
   if (fresh_.empty()) return;
@@ -133,7 +136,8 @@ void BvhBroadPhase::refresh_static() {
 
 void BvhBroadPhase::optimize() {
   refresh_static();
-  for (ProxyKind kind : {ProxyKind::kinematic, ProxyKind::dynamic, ProxyKind::standalone})
+  for (ProxyKind kind :
+       {ProxyKind::kinematic, ProxyKind::dynamic, ProxyKind::standalone, ProxyKind::sleeping})
     last_[std::size_t(kind)] = trees_[std::size_t(kind)].optimize(TreeOptimization::adaptive);
 }
 

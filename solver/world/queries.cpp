@@ -72,10 +72,7 @@ Aabb3 clamp_box(Aabb3 const& b) { // infinite query boxes become the largest fin
 
 void World::sync_trees() const {
   if (trees_synced_) return;
-  auto const refit = [&](std::uint32_t i) {
-    bvh_.set_box(i, grown_aabb(i),
-                 bodies_[i].type == BodyType::dynamic ? ProxyKind::dynamic : ProxyKind::kinematic);
-  };
+  auto const refit = [&](std::uint32_t i) { bvh_.set_box(i, grown_aabb(i), moving_kind(i)); };
   if (all_moving_stale_) {
     for (std::uint32_t i : moving_bodies_)
       refit(i);

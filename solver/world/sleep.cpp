@@ -70,8 +70,10 @@ void World::sleep_islands(std::vector<std::vector<std::uint32_t>> const& groups)
     members.insert(members.end(), group.begin(), group.end());
   }
   std::sort(members.begin(), members.end());
-  for (std::uint32_t i : members)
+  for (std::uint32_t i : members) {
     pending_.fell_asleep.push_back(BodyId{i, bodies_[i].generation});
+    bvh_.set_box(i, grown_aabb(i), ProxyKind::sleeping); // its static pairs end there
+  }
   sleeping_count_ += members.size();
   std::erase_if(moving_bodies_, [&](std::uint32_t i) { return bodies_[i].sleeping; });
   cache_.sleep(members);
@@ -105,6 +107,7 @@ void World::wake_islands(std::vector<std::uint32_t>& islands) {
     b.island = no_island;
     b.sleep_time = 0.0f;
     pending_.woke_up.push_back(BodyId{m, b.generation});
+    bvh_.set_box(m, grown_aabb(m), ProxyKind::dynamic); // queries for its pairs anew
   }
   sleeping_count_ -= members.size();
   std::size_t const old = moving_bodies_.size();

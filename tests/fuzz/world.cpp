@@ -541,7 +541,8 @@ void create_body(plume::World& w, Mirror& m, Input& in) {
   PLUME_FUZZ_CHECK(same(w.pose(id).translation, def.pose.translation));
   Quat const q = w.pose(id).rotation;
   PLUME_FUZZ_CHECK(finite(q) && std::abs(q.length() - 1.0f) < 1e-4f);
-  bool const asleep = def.type == plume::BodyType::dynamic && !def.awake && w.config().sleep;
+  bool const asleep =
+      def.type == plume::BodyType::dynamic && !def.awake && def.enable_sleep && w.config().sleep;
   PLUME_FUZZ_CHECK(w.is_sleeping(id) == asleep);
   PLUME_FUZZ_CHECK(w.sleep_enabled(id) == def.enable_sleep);
   if (def.type == plume::BodyType::static_body || asleep) {
@@ -1102,10 +1103,17 @@ void sleep_op(plume::World& w, Mirror& m, Input& in) {
     if (b && e == BodyError::none) {
       if (k % 5 == 1)
         PLUME_FUZZ_CHECK(!w.is_sleeping(id));
-      else
-        PLUME_FUZZ_CHECK(
-            w.is_sleeping(id) ==
-            (w.config().sleep && w.type(id) == plume::BodyType::dynamic && !w.is_frozen(id)));
+      else {
+        // Asleep exactly when it may: a dynamic, unfrozen body in a world that sleeps, unless
+        // its island holds a body whose sleeping is disabled (any such body is a suspect).
+        bool const may =
+            w.config().sleep && w.type(id) == plume::BodyType::dynamic && !w.is_frozen(id);
+        bool const vetoed = std::any_of(m.bodies.begin(), m.bodies.end(), [&](auto const& o) {
+          return o.alive && !w.sleep_enabled(o.id);
+        });
+        PLUME_FUZZ_CHECK(!w.is_sleeping(id) || may);
+        PLUME_FUZZ_CHECK(w.is_sleeping(id) || !may || vetoed);
+      }
     }
     break;
   case 2:

@@ -122,8 +122,11 @@ TEST_CASE("bvh broad phase: the pairs brute force finds, through moves and kind 
         Aabb3 a = boxes[i], b = boxes[j];
         if (unbounded[i]) a.min.y = -std::numeric_limits<float>::infinity();
         if (unbounded[j]) b.min.y = -std::numeric_limits<float>::infinity();
-        bool const one_dynamic = kind[i] == ProxyKind::dynamic || kind[j] == ProxyKind::dynamic;
-        if (one_dynamic && overlap(a, b) && keep(i, j)) brute.push_back(body_pair_key(i, j));
+        // A dynamic body, or a sleeping one and a kinematic one.
+        bool const kinds = kind[i] == ProxyKind::dynamic || kind[j] == ProxyKind::dynamic ||
+                           (kind[i] == ProxyKind::sleeping && kind[j] == ProxyKind::kinematic) ||
+                           (kind[i] == ProxyKind::kinematic && kind[j] == ProxyKind::sleeping);
+        if (kinds && overlap(a, b) && keep(i, j)) brute.push_back(body_pair_key(i, j));
       }
     INFO("step " << step);
     REQUIRE(pairs == brute);

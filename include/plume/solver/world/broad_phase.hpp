@@ -4,15 +4,17 @@
 //
 // BvhBroadPhase (the default) keeps the bodies in bounding volume hierarchies
 // (spatial/aabb_tree.hpp), one per kind as Avian's: static, kinematic, dynamic and standalone
-// colliders (colliders without a body), and a list of unbounded ones (half-spaces: a box with
+// colliders (colliders without a body), plus one for sleeping dynamic bodies (ProxyKind), and
+// a list of unbounded ones (half-spaces: a box with
 // an infinite coordinate). Pairs persist between
 // steps, as Box2D v3's: a candidate pair is kept while the two fat boxes (a tree leaf's box,
 // grown by the tree's margin; an unbounded body's own box) overlap, and only bodies whose fat
 // box changed this step (moved out of it, new, or of a new kind) query the trees for new
-// candidates: a dynamic body asks every tree and the unbounded list, any other body the
-// dynamic tree and the unbounded dynamic bodies. A body that stays inside its fat box, static
-// or not, costs one exact box test per candidate pair and no query. Each step's pairs are the
-// candidates whose exact boxes overlap and that keep() accepts, so they are the same as a
+// candidates: a dynamic body asks every tree and the unbounded list, a kinematic one the
+// dynamic and sleeping trees, a sleeping one the dynamic and kinematic trees, any other body
+// the dynamic tree (and each the unbounded bodies it pairs with). A body that stays inside its fat
+// box, static or not, costs one exact box test per candidate pair and no query. Each step's pairs
+// are the candidates whose exact boxes overlap and that keep() accepts, so they are the same as a
 // brute-force loop's. The static tree is rebuilt (binned SAH) only in a step after static
 // bodies were added or moved; the kinematic, dynamic and standalone trees are optimised each
 // step (TreeOptimization::adaptive).
@@ -82,11 +84,20 @@ private:
 };
 
 /// What a body is to the BVH broad phase: which tree holds it and what it pairs with (a pair
-/// needs at least one dynamic body; the caller's keep() refines that, e.g. for frozen bodies).
-/// standalone: a collider without a body (pairs as a static body, in a tree of its own).
-enum class ProxyKind : std::uint8_t { static_body, kinematic, dynamic, standalone };
+/// needs at least one dynamic body, or a sleeping and a kinematic one; the caller's keep()
+/// refines that, e.g. for frozen bodies). standalone: a collider without a body (pairs as a
+/// static body, in a tree of its own). sleeping: a dynamic body asleep, in a tree of its own:
+/// it pairs with dynamic and kinematic bodies (which may wake it) but not with static ones,
+/// so that a sleeping pile costs the broad phase nothing per step.
+enum class ProxyKind : std::uint8_t { static_body, kinematic, dynamic, standalone, sleeping };
 /// The number of trees (one per ProxyKind).
-inline constexpr std::size_t proxy_kind_count = 4;
+inline constexpr std::size_t proxy_kind_count = 5;
+/// Whether bodies of these kinds pair (given overlapping boxes and the caller's keep()).
+constexpr bool kinds_pair(ProxyKind a, ProxyKind b) noexcept {
+  return a == ProxyKind::dynamic || b == ProxyKind::dynamic ||
+         (a == ProxyKind::sleeping && b == ProxyKind::kinematic) ||
+         (a == ProxyKind::kinematic && b == ProxyKind::sleeping);
+}
 
 /// The BVH broad phase (see above), over bodies numbered by the world's slots.
 class BvhBroadPhase {
@@ -101,7 +112,7 @@ public:
   /// on the unbounded list instead of a tree. The body counts as moved (find_pairs() queries
   /// for it) when it is new, changes kind or its box leaves its tree's fat box.
   void set_box(std::uint32_t index, Aabb3 const& box, ProxyKind kind);
-  /// The pairs (i, j) whose boxes overlap, at least one of them dynamic, for which keep(i, j)
+  /// The pairs (i, j) whose boxes overlap, of kinds that pair (kinds_pair), for which keep(i, j)
   /// holds, as body_pair_key()s in increasing order, written to `pairs` (cleared first).
   /// Optimises the trees first; then queries the trees for the moved bodies only.
   template <class Keep>
@@ -112,9 +123,10 @@ public:
   /// The bodies on the unbounded list, by index.
   std::span<std::uint32_t const> unbounded() const noexcept { return unbounded_; }
   AabbTree const& tree(ProxyKind kind) const noexcept { return trees_[std::size_t(kind)]; }
-  /// The four trees (static, kinematic, dynamic, standalone), for queries over every body.
+  /// The five trees (static, kinematic, dynamic, standalone, sleeping), for queries over
+  /// every body.
   std::array<AabbTree const*, proxy_kind_count> trees() const noexcept {
-    return {&trees_[0], &trees_[1], &trees_[2], &trees_[3]};
+    return {&trees_[0], &trees_[1], &trees_[2], &trees_[3], &trees_[4]};
   }
   /// A wide copy of the static tree (lanes of children per node, as GWideBvh), rebuilt with
   /// it: null while static bodies changed since the last optimize() (use tree() then). The

@@ -860,6 +860,13 @@ private:
   void find_pairs();
   Aabb3 grown_aabb(std::uint32_t i) const;
   void sync_trees() const;
+  /// The broad-phase kind of a kinematic or dynamic body (asleep: the sleeping tree).
+  ProxyKind moving_kind(std::uint32_t i) const noexcept {
+    Body const& b = bodies_[i];
+    return b.type != BodyType::dynamic ? ProxyKind::kinematic
+           : b.sleeping                ? ProxyKind::sleeping
+                                       : ProxyKind::dynamic;
+  }
   void split_sensor_pairs();
   void update_events();
   bool shapes_touch(std::uint32_t a, std::uint32_t b) const;
