@@ -156,7 +156,7 @@ public:
   TreeOptimization last_optimization(ProxyKind kind) const noexcept {
     return last_[std::size_t(kind)];
   }
-  /// Candidate pairs kept between steps (fat boxes overlapping, at least one dynamic body).
+  /// Candidate pairs kept between steps (fat boxes overlapping, of kinds that pair).
   std::size_t candidate_count() const noexcept { return candidates_.size(); }
   /// Bodies queried by the last find_pairs() (the moved ones).
   std::size_t last_query_count() const noexcept { return last_queries_; }
