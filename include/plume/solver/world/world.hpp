@@ -60,12 +60,13 @@
 // when each of its bodies has stayed below its sleep threshold (BodyDef::sleep_threshold,
 // 0.05 m/s, on the speed of its farthest point |v| + |w| max_extent, Box2D v3's measure) for
 // WorldConfig::time_to_sleep (0.5 s). A sleeping body stops (velocities zero), keeps its
-// contacts, sensor overlaps and joints (no events), and costs the step nothing but its broad
-// phase pairs' box tests. Its island wakes when an awake dynamic body, or a kinematic body
-// with a velocity, touches one of its bodies (at the start of a step: the wake is in that
-// step), on every setter of one of its bodies or joints, when a body, collider or joint it
-// touches is destroyed, teleported or re-layered, when a static body or collider is created
-// over it, and on demand (set_awake, wake_all). A body that touches a kinematic body with a
+// contacts, sensor overlaps and joints (no events), and costs the step nothing (the broad
+// phase files it in a tree of its own; only its joints are still looked at, once each). Its
+// island wakes when an awake dynamic body, or a kinematic body with a velocity, touches one of
+// its bodies (at the start of a step: the wake is in that step), on every setter of one of its
+// bodies or joints, when a body, collider or joint it touches is destroyed, teleported or
+// re-layered, when a static body or collider is created over it, and on demand (set_awake,
+// wake_all). A body that touches a kinematic body with a
 // velocity, or whose sleeping is disabled (BodyDef::enable_sleep), keeps its island awake.
 // Islands are found anew each step from the awake contacts and joints, in body index order,
 // so sleeping is as deterministic as the rest of the step (every width and build).
