@@ -668,3 +668,38 @@ TEST_CASE("sleep: every solver width sleeps and wakes the same world",
   for_each_type<test::f32_wide_types>(
       [&]<class T>() { CHECK(run(std::type_identity<T>{}) == scalar); });
 }
+
+TEST_CASE("sleep: both broad phases sleep and wake the same world", "[world][sleep]") {
+  auto const run = [](BroadPhaseKind kind) {
+    WorldConfig cfg;
+    cfg.broad_phase = kind;
+    World w(cfg);
+    add_ground(w);
+    std::vector<BodyId> const ids = add_box_pyramid(w, 3);
+    std::uint64_t h = 0;
+    for (int s = 0; s < 150; ++s)
+      w.step(dt);
+    h = h * 31 + w.sleeping_count();
+    // A static bar created through the pyramid's top, a ball dropped on a corner, a teleport.
+    BodyDef bar;
+    bar.type = BodyType::static_body;
+    bar.shape = Cuboid{{2.0f, 0.05f, 0.05f}};
+    bar.pose = Iso3::from_translation({0.0f, 2.9f, 0.0f});
+    BodyId const b = w.create_body(bar).id;
+    h = h * 31 + w.sleeping_count();
+    for (int s = 0; s < 60; ++s) {
+      w.step(dt);
+      h = h * 31 + w.state_hash() + w.sleeping_count();
+    }
+    add_ball(w, {1.0f, 4.0f, 1.0f});
+    w.set_pose(b, Iso3::from_translation({0.0f, -3.0f, 0.0f}));
+    for (int s = 0; s < 200; ++s) {
+      w.step(dt);
+      h = h * 31 + w.state_hash() + w.sleeping_count();
+    }
+    return std::pair{h, all_sleeping(w, ids)};
+  };
+  auto const bvh = run(BroadPhaseKind::bvh);
+  CHECK(bvh == run(BroadPhaseKind::sort_and_sweep));
+  CHECK(bvh.second); // asleep again at the end
+}
