@@ -201,8 +201,10 @@ std::vector<std::uint32_t> World::island_of(std::uint32_t i) const {
 void World::update_sleep(float dt) {
   if (!config_.sleep) return;
   // Timers: the speed of each awake body's farthest point against its threshold.
+  bool kinematics = false; // a kinematic body with a velocity: the loops below have work
   for (std::uint32_t i : moving_bodies_) {
     Body& b = bodies_[i];
+    kinematics = kinematics || moving_kinematic(i);
     if (!b.active()) continue;
     BodyState const& s = states_[i];
     float const speed = s.linear_velocity.length() + s.angular_velocity.length() * b.max_extent;
@@ -216,10 +218,12 @@ void World::update_sleep(float dt) {
     if (bodies_[b].active() && moving_kinematic(a)) bodies_[b].sleep_time = 0.0f;
     if (bodies_[a].active() && moving_kinematic(b)) bodies_[a].sleep_time = 0.0f;
   };
-  for (Contact const& c : cache_.contacts())
-    kinematic_keeps(c.body_a, c.body_b);
-  for (Joint const& j : joints_)
-    if (j.alive && !j.broken) kinematic_keeps(j.def.body_a.index, j.def.body_b.index);
+  if (kinematics) {
+    for (Contact const& c : cache_.contacts())
+      kinematic_keeps(c.body_a, c.body_b);
+    for (Joint const& j : joints_)
+      if (j.alive && !j.broken) kinematic_keeps(j.def.body_a.index, j.def.body_b.index);
+  }
 
   // Islands: the awake bodies joined by contacts and joints, each rooted at its lowest index.
   float const limit = config_.time_to_sleep;
