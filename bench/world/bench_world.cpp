@@ -115,6 +115,17 @@ World const& settled_static_scene(int side, BroadPhaseKind kind) {
   return it->second;
 }
 
+/// The last step's stages (StepProfile) as counters, in microseconds.
+void stage_counters(benchmark::State& st, StepProfile const& p) {
+  st.counters["broad_us"] = 1e6 * p.broad_phase;
+  st.counters["narrow_us"] = 1e6 * p.narrow_phase;
+  st.counters["prepare_us"] = 1e6 * p.prepare;
+  st.counters["solve_us"] = 1e6 * p.solve;
+  st.counters["finalize_us"] = 1e6 * p.finalize;
+  st.counters["continuous_us"] = 1e6 * p.continuous;
+  st.counters["sleep_us"] = 1e6 * p.sleep;
+}
+
 void register_static_scene(int side, BroadPhaseKind kind) {
   std::string const name = "spatial_static/" + std::to_string(side * side) + "/" +
                            (kind == BroadPhaseKind::bvh ? "bvh" : "sort_and_sweep");
@@ -123,13 +134,7 @@ void register_static_scene(int side, BroadPhaseKind kind) {
     plume::bench::run_items(st, 1, [&] { world.step(1.0f / 60.0f); });
     st.counters["bodies"] = double(world.body_count());
     st.counters["contacts"] = double(world.contacts().size());
-    StepProfile const& p = world.last_profile(); // the last step's stages, in microseconds
-    st.counters["broad_us"] = 1e6 * p.broad_phase;
-    st.counters["narrow_us"] = 1e6 * p.narrow_phase;
-    st.counters["prepare_us"] = 1e6 * p.prepare;
-    st.counters["solve_us"] = 1e6 * p.solve;
-    st.counters["finalize_us"] = 1e6 * p.finalize;
-    st.counters["continuous_us"] = 1e6 * p.continuous;
+    stage_counters(st, world.last_profile());
   })->Unit(benchmark::kMicrosecond);
 }
 
@@ -181,12 +186,7 @@ void register_large_scene(bool sleep) {
     plume::bench::run_items(st, 1, [&] { world.step(1.0f / 60.0f); });
     st.counters["sleeping"] = double(world.sleeping_count());
     st.counters["contacts"] = double(world.contacts().size());
-    StepProfile const& p = world.last_profile(); // the last step's stages, in microseconds
-    st.counters["broad_us"] = 1e6 * p.broad_phase;
-    st.counters["narrow_us"] = 1e6 * p.narrow_phase;
-    st.counters["solve_us"] = 1e6 * (p.prepare + p.solve);
-    st.counters["finalize_us"] = 1e6 * p.finalize;
-    st.counters["sleep_us"] = 1e6 * p.sleep;
+    stage_counters(st, world.last_profile());
   })->Unit(benchmark::kMicrosecond);
 }
 

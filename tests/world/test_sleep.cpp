@@ -625,6 +625,29 @@ TEST_CASE("sleep: bad sleep settings are refused at creation", "[world][sleep][b
   CHECK(n <= 31);
 }
 
+TEST_CASE("sleep: time_to_sleep of zero or NaN", "[world][sleep][bad-input]") {
+  for (float limit : {0.0f, -1.0f, NAN}) {
+    WorldConfig cfg;
+    cfg.time_to_sleep = limit;
+    World w(cfg);
+    add_ground(w);
+    BodyId const ball = add_ball(w, {0.0f, 5.0f, 0.0f}, 0.25f, 0.0f);
+    std::vector<BodyId> const box = add_box_stack(w, 1);
+    w.set_velocity(box[0], Vec3{}, Vec3{});
+    INFO("time_to_sleep " << limit);
+    w.step(dt);
+    CHECK(!w.is_sleeping(ball)); // falling: never asleep, whatever the limit
+    if (std::isnan(limit)) {
+      for (int s = 0; s < 120; ++s)
+        w.step(dt);
+      CHECK(!w.is_sleeping(box[0])); // NaN: never
+      CHECK(!w.is_sleeping(ball));
+    } else {
+      CHECK(w.is_sleeping(box[0])); // at rest in its first step: asleep at once
+    }
+  }
+}
+
 TEST_CASE("sleep: turned off, nothing sleeps, even a body created asleep", "[world][sleep]") {
   WorldConfig cfg;
   cfg.sleep = false;
