@@ -6,6 +6,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include <chrono>
+
 #include <cstdint>
 
 /// Forces a kernel lambda inline into the timed loop: `[](T v) PLUME_BENCH_INLINE { ... }`.
@@ -21,6 +23,23 @@ void run_items(benchmark::State& st, std::int64_t items, F&& body) {
   for (auto _ : st)
     body();
   st.SetItemsProcessed(std::int64_t(st.iterations()) * items);
+}
+
+/// run_items() for work spread over threads: items_per_second from the wall-clock time of the
+/// iterations (Google Benchmark's own rate is per CPU second of the calling thread, which
+/// misses the other threads' work; UseRealTime() would fix that but renames the benchmark
+/// with a "/real_time" suffix).
+template <class F>
+void run_items_wall(benchmark::State& st, std::int64_t items, F&& body) {
+  double seconds = 0.0;
+  for (auto _ : st) {
+    auto const t0 = std::chrono::steady_clock::now();
+    body();
+    seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  if (seconds > 0.0)
+    st.counters["items_per_second"] =
+        benchmark::Counter(double(std::int64_t(st.iterations()) * items) / seconds);
 }
 
 /// Calls reg.template operator()<T>() for float and for every f32 width the build has

@@ -7,6 +7,7 @@
 # 2. configures, builds (warnings are errors here) and tests the scalar, sse2, avx2 and
 #    avx512 variants - tests of an instruction set this CPU lacks are reported as skipped;
 # 3. an AddressSanitizer + UndefinedBehaviorSanitizer build (avx2), tests only;
+#    a ThreadSanitizer build of the threaded step's test (avx2);
 #    a clang build (avx2), tests only;
 # 4. the cross-build determinism check: every deterministic build that ran (g++ and clang)
 #    must print the same golden hashes (each also compares with tests/determinism/golden.txt);
@@ -40,6 +41,11 @@ configure_build() { # <preset> [cmake args...]: build/ci-<preset>, warnings are 
   shift
   plume_configure "$preset" "build/ci-$preset" -DCMAKE_COMPILE_WARNING_AS_ERROR=ON "$@" &&
     plume_build "build/ci-$preset"
+}
+
+configure_build_target() { # <preset> <target>: build/ci-<preset>, only that test target
+  plume_configure "$1" "build/ci-$1" -DCMAKE_COMPILE_WARNING_AS_ERROR=ON &&
+    cmake --build "build/ci-$1" -j "$jobs" --target plume_cpu_gate "$2" # ctest runs tests through the gate
 }
 
 mkdir -p build
@@ -80,6 +86,18 @@ if configure_build sanitize; then
     ctest --test-dir build/ci-sanitize --output-on-failure -j "$jobs" || failed+=("sanitize tests")
 else
   failed+=("sanitize build")
+fi
+
+step "thread sanitizer: build (the threaded step's test)"
+# Only plume_thread_tests and the libraries (tests/world/test_threads.cpp): the world stepped
+# on 1, 2 and 8 threads and by random range orders, and the pool under several callers. A race
+# halts the test with TSan's report.
+if configure_build_target tsan plume_thread_tests; then
+  step "thread sanitizer: tests"
+  TSAN_OPTIONS="halt_on_error=1 exitcode=66" \
+    ctest --test-dir build/ci-tsan -R '^threads$' --output-on-failure || failed+=("tsan tests")
+else
+  failed+=("tsan build")
 fi
 
 step "clang (avx2): build"

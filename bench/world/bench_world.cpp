@@ -23,6 +23,10 @@
 // simulated), `asleep` with it on (the bodies have fallen asleep). The two figures are the
 // step's cost per simulated body and its cost per sleeping one.
 //
+// Threads (world_step/pyramid15/f32/plume/x<W>/t<threads>, world_large/10000/awake/t<threads>):
+// the same steps on a ThreadPool (solver/world/tasks.hpp) of 1, 2 and 8 threads; the world's
+// result is the same for every thread count, so the figures compare the same work.
+//
 // Every benchmark starts from the same settled world (60 steps after building the scene,
 // copied), so the widths do the same work; the solver-stage figures use the world's own
 // stage timer (StepProfile) as Google Benchmark's manual time.
@@ -43,6 +47,17 @@ using namespace plume;
 using namespace plume::scenes;
 
 namespace {
+
+/// The last step's stages (StepProfile) as counters, in microseconds.
+void stage_counters(benchmark::State& st, StepProfile const& p) {
+  st.counters["broad_us"] = 1e6 * p.broad_phase;
+  st.counters["narrow_us"] = 1e6 * p.narrow_phase;
+  st.counters["prepare_us"] = 1e6 * p.prepare;
+  st.counters["solve_us"] = 1e6 * p.solve;
+  st.counters["finalize_us"] = 1e6 * p.finalize;
+  st.counters["continuous_us"] = 1e6 * p.continuous;
+  st.counters["sleep_us"] = 1e6 * p.sleep;
+}
 
 /// The scene with `layers` layers, settled for 60 steps (built once per binary).
 World const& settled_pyramid(int layers) {
@@ -85,6 +100,21 @@ void register_width(int layers) {
       ->Unit(benchmark::kMillisecond);
 }
 
+/// world_step/<scene>/f32/plume/x<W>/t<threads>: the whole step on a ThreadPool of `threads`
+/// threads (t1: the pool's inline path, which is the step without a task system).
+template <class T>
+void register_threads(int layers, std::uint32_t threads) {
+  std::string const name = "world_step/pyramid" + std::to_string(layers) + "/f32/plume/x" +
+                           std::to_string(lanes_v<T>) + "/t" + std::to_string(threads);
+  benchmark::RegisterBenchmark(name.c_str(), [layers, threads](benchmark::State& st) {
+    ThreadPool pool(threads);
+    World world = settled_pyramid(layers);
+    world.set_task_system(&pool);
+    plume::bench::run_items_wall(st, 1, [&] { world.step_with<T>(1.0f / 60.0f); });
+    stage_counters(st, world.last_profile());
+  })->Unit(benchmark::kMillisecond);
+}
+
 /// N = side^2 static boxes and 100 dynamic spheres on the central ones, settled 120 steps.
 World const& settled_static_scene(int side, BroadPhaseKind kind) {
   static std::map<std::pair<int, int>, World> cache;
@@ -113,17 +143,6 @@ World const& settled_static_scene(int side, BroadPhaseKind kind) {
     it = cache.emplace(key, std::move(w)).first;
   }
   return it->second;
-}
-
-/// The last step's stages (StepProfile) as counters, in microseconds.
-void stage_counters(benchmark::State& st, StepProfile const& p) {
-  st.counters["broad_us"] = 1e6 * p.broad_phase;
-  st.counters["narrow_us"] = 1e6 * p.narrow_phase;
-  st.counters["prepare_us"] = 1e6 * p.prepare;
-  st.counters["solve_us"] = 1e6 * p.solve;
-  st.counters["finalize_us"] = 1e6 * p.finalize;
-  st.counters["continuous_us"] = 1e6 * p.continuous;
-  st.counters["sleep_us"] = 1e6 * p.sleep;
 }
 
 void register_static_scene(int side, BroadPhaseKind kind) {
@@ -179,11 +198,15 @@ World const& settled_large_scene(bool sleep) {
   return it->second;
 }
 
-void register_large_scene(bool sleep) {
-  std::string const name = std::string("world_large/10000/") + (sleep ? "asleep" : "awake");
-  benchmark::RegisterBenchmark(name.c_str(), [sleep](benchmark::State& st) {
+/// world_large/10000/<awake|asleep>, and with /t<threads> on a ThreadPool of that many.
+void register_large_scene(bool sleep, std::uint32_t threads = 0) {
+  std::string const name = std::string("world_large/10000/") + (sleep ? "asleep" : "awake") +
+                           (threads ? "/t" + std::to_string(threads) : std::string());
+  benchmark::RegisterBenchmark(name.c_str(), [sleep, threads](benchmark::State& st) {
+    ThreadPool pool(threads);
     World world = settled_large_scene(sleep);
-    plume::bench::run_items(st, 1, [&] { world.step(1.0f / 60.0f); });
+    if (threads) world.set_task_system(&pool);
+    plume::bench::run_items_wall(st, 1, [&] { world.step(1.0f / 60.0f); });
     st.counters["sleeping"] = double(world.sleeping_count());
     st.counters["contacts"] = double(world.contacts().size());
     stage_counters(st, world.last_profile());
@@ -294,8 +317,12 @@ int main(int argc, char** argv) {
   for (int side : {200, 20})
     for (BroadPhaseKind kind : {BroadPhaseKind::bvh, BroadPhaseKind::sort_and_sweep})
       register_static_scene(side, kind);
+  for (std::uint32_t threads : {1u, 2u, 8u})
+    plume::bench::for_each_f32_width([&]<class T>() { register_threads<T>(15, threads); });
   for (bool sleep : {false, true})
     register_large_scene(sleep);
+  for (std::uint32_t threads : {1u, 2u, 8u})
+    register_large_scene(false, threads);
   for (bool fans : {true, false}) {
     plume::bench::for_each_f32_width([&]<class T>() { register_ray_batch<T>(fans); });
     register_ray_loop(fans);

@@ -19,6 +19,37 @@ double seconds_since(clock::time_point t0) {
 bool finite(Vec3 const& v) { return v.is_finite(); }
 bool finite(Quat const& q) { return q.is_finite(); }
 
+// The parallel stages' smallest ranges (tasks.hpp): below these, a range's work costs less than
+// handing it to another thread. Pairs go in chunks of collide_chunk, each chunk's manifolds in
+// a list of its own (merged in chunk order).
+constexpr std::uint32_t collide_chunk = 16;
+constexpr std::uint32_t min_chunks = 2;
+constexpr std::uint32_t min_bodies = 256;
+constexpr std::uint32_t min_blocks = 4;
+
+/// f(i) for every index in ids, as range tasks.
+template <class F>
+void for_each_body(TaskSystem* tasks, std::vector<std::uint32_t> const& ids, F&& f) {
+  parallel_for(tasks, std::uint32_t(ids.size()), min_bodies,
+               [&](std::uint32_t begin, std::uint32_t end) {
+                 for (std::uint32_t k = begin; k < end; ++k)
+                   f(ids[k]);
+               });
+}
+
+/// GConstraintBlocks' run(n, g): blocks [0, n) as range tasks, one range per worker. A colour's
+/// blocks follow the contacts' order, which follows the bodies' (mostly spatial) order, so
+/// with one range per worker each thread tends to get the same bodies in every colour and
+/// pass, and keeps their states in its cache. Smaller ranges, taken in turn by whichever
+/// thread is free, move body states between cores at almost every block (docs/performance.md,
+/// "Threads", has the measurements).
+auto block_runner(TaskSystem* tasks) {
+  std::uint32_t const workers = tasks ? std::max(1u, tasks->worker_count()) : 1u;
+  return [tasks, workers](std::uint32_t n, auto&& g) {
+    parallel_for(tasks, n, std::max(min_blocks, (n + workers - 1) / workers), g);
+  };
+}
+
 } // namespace
 
 int detail::collide(BodyShape const& a, Iso3 const& pa, BodyShape const& b, Iso3 const& pb,
@@ -167,30 +198,44 @@ void World::update_events() {
 
 /// Narrow phase: a manifold per pair, then the contact cache matches them with last step's.
 void World::collide_pairs() {
+  std::uint32_t const pair_count = std::uint32_t(pairs_.size());
+  std::uint32_t const chunks = (pair_count + collide_chunk - 1) / collide_chunk;
+  if (found_chunks_.size() < chunks) found_chunks_.resize(chunks);
+  parallel_for(config_.tasks, chunks, min_chunks, [&](std::uint32_t begin, std::uint32_t end) {
+    std::array<Manifold, max_mesh_manifolds> ms;
+    for (std::uint32_t chunk = begin; chunk < end; ++chunk) {
+      std::vector<PairManifold>& out = found_chunks_[chunk];
+      out.clear();
+      std::uint32_t const last = std::min(pair_count, (chunk + 1) * collide_chunk);
+      for (std::uint32_t p = chunk * collide_chunk; p < last; ++p) {
+        std::uint64_t const pair = pairs_[p];
+        Body const& a = bodies_[body_pair_first(pair)];
+        Body const& b = bodies_[body_pair_second(pair)];
+        int const n = detail::collide(a.shape, a.pose, b.shape, b.pose, config_.manifold, ms);
+        for (int k = 0; k < n; ++k)
+          out.push_back({pair, ms[std::size_t(k)], std::sqrt(a.friction * b.friction),
+                         std::max(a.restitution, b.restitution), a.is_dynamic(), b.is_dynamic()});
+      }
+    }
+  });
   found_.clear();
-  std::array<Manifold, max_mesh_manifolds> ms;
-  for (std::uint64_t const pair : pairs_) {
-    Body const& a = bodies_[body_pair_first(pair)];
-    Body const& b = bodies_[body_pair_second(pair)];
-    int const n = detail::collide(a.shape, a.pose, b.shape, b.pose, config_.manifold, ms);
-    for (int k = 0; k < n; ++k)
-      found_.push_back({pair, ms[std::size_t(k)], std::sqrt(a.friction * b.friction),
-                        std::max(a.restitution, b.restitution), a.is_dynamic(), b.is_dynamic()});
-  }
+  for (std::uint32_t chunk = 0; chunk < chunks; ++chunk)
+    found_.insert(found_.end(), found_chunks_[chunk].begin(), found_chunks_[chunk].end());
   cache_.update(found_, config_.contact_match_distance);
 }
 
 /// World inverse inertias at the step's start; the position deltas start at zero.
 void World::prepare_bodies() {
-  for (std::uint32_t i : moving_bodies_) { // a static body's state is never written
-    Body& b = bodies_[i];
-    if (b.is_dynamic()) {
-      Mat3 const r = Mat3::from_quat(b.pose.rotation);
-      b.inv_inertia_world = b.inv_inertia_local.rotate_inertia(r);
-    }
-    states_[i].delta_position = Vec3{};
-    states_[i].delta_rotation = Quat::IDENTITY;
-  }
+  for_each_body(config_.tasks, moving_bodies_,
+                [&](std::uint32_t i) { // a static body's state is never written
+                  Body& b = bodies_[i];
+                  if (b.is_dynamic()) {
+                    Mat3 const r = Mat3::from_quat(b.pose.rotation);
+                    b.inv_inertia_world = b.inv_inertia_local.rotate_inertia(r);
+                  }
+                  states_[i].delta_position = Vec3{};
+                  states_[i].delta_rotation = Quat::IDENTITY;
+                });
 }
 
 SolverBody World::contact_body(std::uint32_t i) const {
@@ -235,7 +280,8 @@ void World::pack_contacts(GConstraintBlocks<GContactConstraint, T>& blocks, floa
       },
       [&](GContactConstraint<T>& block, std::size_t lane) {
         clear_contact_lane(block, lane, identity);
-      });
+      },
+      block_runner(config_.tasks));
 }
 
 /// The joints packed by kind (in JointKind order), each kind by colour, each lane prepared
@@ -268,7 +314,8 @@ void World::pack_joints(JointBlocks<T>& blocks, float h) const {
         },
         [&](GJointConstraint<T>& block, std::size_t lane) {
           clear_joint_lane(block, lane, identity);
-        });
+        },
+        block_runner(config_.tasks));
   }
 }
 
@@ -279,7 +326,7 @@ void World::run_joints(JointBlocks<T>& blocks, float inv_h) {
   auto const t0 = clock::now();
   BodyState* const states = states_.data();
   for (int k = 0; k < joint_kind_count; ++k)
-    blocks.by_kind[std::size_t(k)].for_each([&](auto& c) {
+    blocks.by_kind[std::size_t(k)].for_each_by_color(block_runner(config_.tasks), [&](auto& c) {
       using U = typename std::decay_t<decltype(c)>::element_type;
       joint_pass<P>(JointKind(k), c, states, U(inv_h));
     });
@@ -315,48 +362,50 @@ void World::solve_substeps(GConstraintBlocks<GContactConstraint, T>& blocks, Joi
   float const inv_h = 1.0f / h;
   float const push = config_.max_push_speed;
   BodyState* const states = states_.data();
+  auto const run = block_runner(config_.tasks);
   for (int sub = 0; sub < substeps; ++sub) {
     integrate_velocities(h);
     run_joints<JointPass::warm_start>(joints, inv_h);
-    blocks.for_each([&](auto& c) { warm_start_contacts(c, states); });
+    blocks.for_each_by_color(run, [&](auto& c) { warm_start_contacts(c, states); });
     for (int r = 0; r < solve_iterations; ++r) {
       run_joints<JointPass::solve>(joints, inv_h);
-      blocks.for_each([&](auto& c) { solve_contacts(c, states, inv_h, push, true); });
+      blocks.for_each_by_color(run, [&](auto& c) { solve_contacts(c, states, inv_h, push, true); });
     }
     integrate_positions(h);
     for (int r = 0; r < relax_iterations; ++r) {
       run_joints<JointPass::relax>(joints, inv_h);
-      blocks.for_each([&](auto& c) { solve_contacts(c, states, inv_h, push, false); });
+      blocks.for_each_by_color(run,
+                               [&](auto& c) { solve_contacts(c, states, inv_h, push, false); });
     }
   }
   float const threshold = config_.restitution_threshold;
-  blocks.for_each([&](auto& c) { apply_restitution(c, states, threshold); });
+  blocks.for_each_by_color(run, [&](auto& c) { apply_restitution(c, states, threshold); });
 }
 
 void World::integrate_velocities(float h) {
   Vec3 const g = config_.gravity;
   float const max_w = config_.max_rotation / h;
-  for (std::uint32_t i : moving_bodies_) {
+  for_each_body(config_.tasks, moving_bodies_, [&](std::uint32_t i) {
     Body const& b = bodies_[i];
-    if (!b.is_dynamic()) continue;
+    if (!b.is_dynamic()) return;
     BodyState& s = states_[i];
     Vec3 v = s.linear_velocity * (1.0f / (1.0f + h * b.linear_damping)) + g * (h * b.gravity_scale);
     Vec3 w = s.angular_velocity * (1.0f / (1.0f + h * b.angular_damping));
     s.linear_velocity = v.clamp_length_max(config_.max_linear_speed);
     s.angular_velocity = w.clamp_length_max(max_w);
-  }
+  });
 }
 
 void World::integrate_positions(float h) {
-  for (std::uint32_t i : moving_bodies_) {
-    if (!bodies_[i].moves()) continue;
+  for_each_body(config_.tasks, moving_bodies_, [&](std::uint32_t i) {
+    if (!bodies_[i].moves()) return;
     BodyState& s = states_[i];
     s.delta_position = s.delta_position + s.linear_velocity * h;
     Vec3 const w = s.angular_velocity;
     Quat const spin = Quat::from_xyzw(w.x, w.y, w.z, 0.0f) * s.delta_rotation;
     Quat const q = s.delta_rotation + spin * (0.5f * h);
     s.delta_rotation = q * (1.0f / q.length());
-  }
+  });
 }
 
 /// Each contact keeps the impulses its lane accumulated, to warm start the next step.
@@ -371,33 +420,52 @@ void World::store_impulses(GConstraintBlocks<GContactConstraint, T> const& block
 /// Poses from the accumulated deltas; a body whose state turned non-finite is frozen. Dynamic
 /// bodies that moved far for their size go to fast_ for the continuous pass.
 void World::finalize_bodies() {
+  // Each body on any thread (its pose, or frozen), then the lists in body order.
+  enum : std::uint8_t { kept, froze, fast };
+  finalize_status_.resize(moving_bodies_.size());
+  finalize_start_.resize(moving_bodies_.size());
+  parallel_for(config_.tasks, std::uint32_t(moving_bodies_.size()), min_bodies,
+               [&](std::uint32_t begin, std::uint32_t end) {
+                 for (std::uint32_t k = begin; k < end; ++k) {
+                   std::uint32_t const i = moving_bodies_[k];
+                   finalize_status_[k] = kept;
+                   Body& b = bodies_[i];
+                   if (!b.moves()) continue;
+                   BodyState& s = states_[i];
+                   Vec3 const center = b.center + s.delta_position;
+                   Quat q = s.delta_rotation * b.pose.rotation;
+                   q = q * (1.0f / q.length());
+                   if (!finite(center) || !finite(q) || !finite(s.linear_velocity) ||
+                       !finite(s.angular_velocity)) {
+                     b.frozen = true; // stays where the step began, stopped
+                     s = BodyState{};
+                     finalize_status_[k] = froze;
+                     continue;
+                   }
+                   if (config_.continuous && b.type == BodyType::dynamic && !b.sensor) {
+                     float const moved = s.delta_position.length();
+                     if (moved > 0.0f && moved >= config_.ccd_fraction * b.min_extent) {
+                       finalize_status_[k] = fast;
+                       finalize_start_[k] = b.center;
+                     }
+                   }
+                   b.center = center;
+                   b.pose.rotation = q;
+                   b.pose.translation = center - q * b.local_center;
+                   s.delta_position = Vec3{};
+                   s.delta_rotation = Quat::IDENTITY;
+                 }
+               });
   std::vector<std::uint32_t> newly_frozen;
   fast_.clear();
-  for (std::uint32_t i : moving_bodies_) {
-    Body& b = bodies_[i];
-    if (!b.moves()) continue;
-    BodyState& s = states_[i];
-    Vec3 const center = b.center + s.delta_position;
-    Quat q = s.delta_rotation * b.pose.rotation;
-    q = q * (1.0f / q.length());
-    if (!finite(center) || !finite(q) || !finite(s.linear_velocity) ||
-        !finite(s.angular_velocity)) {
-      b.frozen = true; // stays where the step began, stopped
-      s = BodyState{};
+  for (std::size_t k = 0; k < moving_bodies_.size(); ++k) {
+    std::uint32_t const i = moving_bodies_[k];
+    if (finalize_status_[k] == froze) {
       newly_frozen.push_back(i);
       frozen_.push_back(BodyId{i, bodies_[i].generation});
-      continue;
+    } else if (finalize_status_[k] == fast) {
+      fast_.push_back({i, finalize_start_[k]});
     }
-    if (config_.continuous && b.type == BodyType::dynamic && !b.sensor) {
-      float const moved = s.delta_position.length();
-      if (moved > 0.0f && moved >= config_.ccd_fraction * b.min_extent)
-        fast_.push_back({i, b.center});
-    }
-    b.center = center;
-    b.pose.rotation = q;
-    b.pose.translation = center - q * b.local_center;
-    s.delta_position = Vec3{};
-    s.delta_rotation = Quat::IDENTITY;
   }
   // Their contacts end now; the next step finds them again with the body static.
   cache_.remove_bodies(newly_frozen);

@@ -7,6 +7,7 @@
 //   blocks.pack(colors, prepare, clear);        // colors[i]: constraint i's colour
 //   blocks.pack_grouped<5>(colors, key, prepare, clear);  // within a colour, by key(i)
 //   blocks.for_each([&](auto& c) { solve_contacts(c, ...); });  // overflow, then the blocks
+//   blocks.for_each_by_color(run, f);           // each colour's blocks as one range task
 //   blocks.for_each_lane([&](auto const& c, std::size_t lane, std::uint32_t i) { ... });
 //
 // No constraint appears twice and no dynamic body appears twice in a block (the colouring's
@@ -46,8 +47,13 @@ public:
   /// constraint i; clear(block, lane) empties a padding lane.
   template <class Prepare, class Clear>
   void pack(std::span<int const> colors, Prepare&& prepare, Clear&& clear) {
+    pack(colors, prepare, clear, serial_ranges);
+  }
+  /// pack(), with the blocks' lanes prepared through run(n, g) (see pack_grouped()).
+  template <class Prepare, class Clear, class Run>
+  void pack(std::span<int const> colors, Prepare&& prepare, Clear&& clear, Run&& run) {
     pack_grouped<1>(
-        colors, [](std::uint32_t) { return 0u; }, prepare, clear);
+        colors, [](std::uint32_t) { return 0u; }, prepare, clear, run);
   }
 
   /// pack(), with each colour ordered by key(i) (an integer below KeyCount; ascending, index
@@ -56,6 +62,16 @@ public:
   /// index order. A key outside [0, KeyCount) is taken as KeyCount - 1.
   template <std::size_t KeyCount, class Key, class Prepare, class Clear>
   void pack_grouped(std::span<int const> colors, Key&& key, Prepare&& prepare, Clear&& clear) {
+    pack_grouped<KeyCount>(colors, key, prepare, clear, serial_ranges);
+  }
+
+  /// pack_grouped(), with the blocks' lanes prepared through run(n, g): g(begin, end) over
+  /// sub-ranges of blocks [0, n) covering each once, in any order and on any thread (a
+  /// task system's parallel_for); prepare and clear then must only write the block they are
+  /// given. The overflow is prepared on the calling thread, after the blocks.
+  template <std::size_t KeyCount, class Key, class Prepare, class Clear, class Run>
+  void pack_grouped(std::span<int const> colors, Key&& key, Prepare&& prepare, Clear&& clear,
+                    Run&& run) {
     static_assert(KeyCount >= 1);
     // Buckets colour-major, key-minor; the last one is the overflow.
     std::vector<std::vector<std::uint32_t>>& buckets = buckets_;
@@ -79,22 +95,28 @@ public:
       for (std::size_t k = 0; k < KeyCount; ++k)
         n += buckets[c * KeyCount + k].size();
       sizes_[c] = n;
+      color_begin_[c] = block_count;
       block_count += (n + lanes - 1) / lanes;
     }
+    color_begin_[color_count] = block_count;
     sizes_[color_count] = buckets[overflow_bucket].size();
     blocks_.assign(block_count, Constraint<T>{});
     block_items_.assign(block_count * lanes, empty_lane);
     std::size_t slot = 0; // lane slots filled so far, over every block
     for (std::size_t c = 0; c < color_count; ++c) {
       for (std::size_t k = 0; k < KeyCount; ++k)
-        for (std::uint32_t const i : buckets[c * KeyCount + k]) {
-          prepare(blocks_[slot / lanes], slot % lanes, i);
-          block_items_[slot] = i;
-          ++slot;
-        }
-      for (; slot % lanes != 0; ++slot) // the colour's last block: padding lanes
-        clear(blocks_[slot / lanes], slot % lanes);
+        for (std::uint32_t const i : buckets[c * KeyCount + k])
+          block_items_[slot++] = i;
+      slot = (slot + lanes - 1) / lanes * lanes; // the colour's last block: padding lanes
     }
+    run(std::uint32_t(block_count), [&](std::uint32_t begin, std::uint32_t end) {
+      for (std::size_t b = begin; b < end; ++b)
+        for (std::size_t lane = 0; lane < lanes; ++lane)
+          if (std::uint32_t const i = block_items_[b * lanes + lane]; i != empty_lane)
+            prepare(blocks_[b], lane, i);
+          else
+            clear(blocks_[b], lane);
+    });
     overflow_items_.assign(buckets[overflow_bucket].begin(), buckets[overflow_bucket].end());
     overflow_.assign(overflow_items_.size(), Constraint<float>{});
     for (std::size_t k = 0; k < overflow_.size(); ++k)
@@ -108,6 +130,24 @@ public:
       f(c);
     for (auto& c : blocks_)
       f(c);
+  }
+
+  /// for_each(), with each colour's blocks run through run(n, g) as pack_grouped()'s: the
+  /// overflow one constraint after another on the calling thread, then the colours in order,
+  /// each colour's blocks in any order and on any thread (they share no body the solver
+  /// writes, so the result is the same as for_each()'s).
+  template <class Run, class F>
+  void for_each_by_color(Run&& run, F&& f) {
+    for (auto& c : overflow_)
+      f(c);
+    for (std::size_t c = 0; c < color_count; ++c) {
+      std::size_t const first = color_begin_[c];
+      if (std::size_t const n = color_begin_[c + 1] - first; n != 0)
+        run(std::uint32_t(n), [&](std::uint32_t begin, std::uint32_t end) {
+          for (std::size_t b = begin; b < end; ++b)
+            f(blocks_[first + b]);
+        });
+    }
   }
 
   /// f(c, lane, i) for every filled lane: c holds constraint i in lane `lane`.
@@ -132,6 +172,9 @@ private:
   std::vector<Constraint<float>> overflow_;
   std::vector<std::uint32_t> overflow_items_;
   std::array<std::size_t, color_count + 1> sizes_{};
+  std::array<std::size_t, color_count + 1> color_begin_{}; ///< colour c: blocks from [c] to [c + 1]
+  /// pack()'s run when none is given: every block on the calling thread.
+  static constexpr auto serial_ranges = [](std::uint32_t n, auto&& g) { g(std::uint32_t(0), n); };
   std::vector<std::vector<std::uint32_t>> buckets_; ///< pack's scratch, kept for its capacity
 };
 

@@ -73,6 +73,15 @@
 // StepEvents::fell_asleep and woke_up report the changes. No callback runs during a step, so
 // nothing can wake a body mid-step.
 //
+// Threads (WorldConfig::tasks, set_task_system; solver/world/tasks.hpp): with a task system
+// of more than one worker, the narrow phase (chunks of 16 pairs), the bodies' preparation,
+// integration and finalisation, the packing of contacts and joints, and each colour's blocks
+// in every solver pass run as range tasks; the rest of the step (broad phase, contact cache,
+// colouring, events, continuous collision, sleeping) runs on the calling thread. Each task
+// writes only its own items' results, so the world is bitwise the same for any task system
+// and thread count; a stage with little work (fewer items than its minimum range) runs
+// inline. The step's calling thread must be the only one using the world during the step.
+//
 // Out of scope for this version (named, not stubbed): compound bodies (one shape per body).
 #pragma once
 
@@ -93,6 +102,7 @@
 #include <plume/solver/joints/joint.hpp>
 #include <plume/solver/world/broad_phase.hpp>
 #include <plume/solver/world/contact_cache.hpp>
+#include <plume/solver/world/tasks.hpp>
 #include <plume/spatial/height_field.hpp>
 #include <plume/spatial/mesh_queries.hpp>
 #include <plume/spatial/triangle_mesh.hpp>
@@ -436,6 +446,9 @@ struct WorldConfig {
   /// The gap a sweep stops at (m): a quarter of the speculative distance, so that the next
   /// step finds the contact.
   float ccd_distance() const noexcept { return 0.25f * speculative_distance; }
+  /// The task system the step runs its parallel stages on (not owned; it must outlive its
+  /// use by the world). nullptr (the default): every stage on the calling thread.
+  TaskSystem* tasks = nullptr;
   /// Joint stiffness (Hz) and damping ratio of every joint row that holds an error at zero
   /// (points, locks, limits), capped at a quarter of the substep rate as contact_hertz
   /// (Box2D's defaults: 60 Hz, 2).
@@ -740,6 +753,11 @@ public:
   void step_with(float dt);
 
   WorldConfig const& config() const noexcept { return config_; }
+  /// Sets WorldConfig::tasks: the task system of the following steps (nullptr: one thread).
+  /// May change between any two steps (another thread count, another system); the world's
+  /// results do not depend on it.
+  void set_task_system(TaskSystem* tasks) noexcept { config_.tasks = tasks; }
+  TaskSystem* task_system() const noexcept { return config_.tasks; }
   /// The contacts of the last step that the solver worked on (those of awake bodies).
   std::span<Contact const> contacts() const noexcept { return cache_.contacts(); }
   /// The contacts of sleeping bodies, kept as they were when their island fell asleep (those
@@ -957,7 +975,9 @@ private:
     std::uint32_t index;
     Vec3 start; ///< centre of mass where the step began
   };
-  std::vector<FastBody> fast_; ///< this step's fast bodies, by index
+  std::vector<FastBody> fast_;                ///< this step's fast bodies, by index
+  std::vector<std::uint8_t> finalize_status_; ///< finalize_bodies(): per moving body, its outcome
+  std::vector<Vec3> finalize_start_;          ///< and a fast body's centre at the step's start
   SolverBody contact_body(std::uint32_t i) const;
 
   WorldConfig config_;
@@ -980,6 +1000,8 @@ private:
   }
   std::vector<std::uint64_t> pairs_; ///< this step's overlapping pairs (body_pair_key)
   std::vector<PairManifold> found_;  ///< this step's manifolds, by pair
+  /// The narrow phase's output per chunk of collide_chunk pairs (kept for their capacity).
+  std::vector<std::vector<PairManifold>> found_chunks_;
   ContactCache cache_;
   std::vector<BodyId> frozen_;
   StepEvents events_, pending_; ///< pending_: destroy_body's ends, for the next step
