@@ -2,6 +2,7 @@
 // (broad phase, narrow phase and contact cache, the soft-step solver) and its profile.
 //
 //   World, BodyDef, BodyId, WorldConfig, Contact  (solver/world/world.hpp)
+//   TaskSystem, ThreadPool, InlineTasks, parallel_for (the step on threads)  (solver/world/tasks.hpp)
 //   SortAndSweep (the broad phase)                (solver/world/broad_phase.hpp)
 //   ContactCache, carry_impulses (warm starts)    (solver/world/contact_cache.hpp)
 //   WorldMoveQuery (the world as move_and_slide's scene)  (solver/world/move_query.hpp)
@@ -12,4 +13,5 @@
 #include <plume/solver/world/character_controller.hpp>
 #include <plume/solver/world/contact_cache.hpp>
 #include <plume/solver/world/move_query.hpp>
+#include <plume/solver/world/tasks.hpp>
 #include <plume/solver/world/world.hpp>

@@ -21,11 +21,12 @@
 // one item at a time, and with 1, 2 and 8 threads).
 //
 // ThreadPool: threads - 1 workers (std::jthread) plus the thread that waits, which helps with
-// the ranges of the task it waits for. Idle workers spin briefly, then block on a condition
-// variable. 0 or 1 threads: no workers, tasks run inline. Several threads may enqueue and
-// wait at once (each on its own tasks). Destroying the pool while a task is unfinished is
-// undefined; it joins its workers. Why a pool of our own and not oneTBB: docs/performance.md,
-// "Threads".
+// the ranges of the task it waits for (as worker 0). Idle workers spin for 50 us, then block
+// on a condition variable. 0 or 1 threads: no workers, tasks run inline. Several threads may
+// enqueue and wait at once, each on its own tasks (up to 16 open at once; enqueue() runs a
+// task inline while all 16 are open); each waiting thread is worker 0. Destroying the pool
+// while a task is unfinished is undefined; it joins its workers. Why a pool of our own and
+// not oneTBB: docs/performance.md, "Threads".
 #pragma once
 
 #include <cstdint>
