@@ -2,7 +2,7 @@
 // (broad phase, narrow phase and contact cache, the soft-step solver) and its profile.
 //
 //   World, BodyDef, BodyId, WorldConfig, Contact  (solver/world/world.hpp)
-//   TaskSystem, ThreadPool, InlineTasks, parallel_for (the step on threads)  (solver/world/tasks.hpp)
+//   TaskSystem, ThreadPool, InlineTasks (the step on threads)  (solver/world/tasks.hpp)
 //   SortAndSweep (the broad phase)                (solver/world/broad_phase.hpp)
 //   ContactCache, carry_impulses (warm starts)    (solver/world/contact_cache.hpp)
 //   WorldMoveQuery (the world as move_and_slide's scene)  (solver/world/move_query.hpp)
