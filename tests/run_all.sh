@@ -7,7 +7,7 @@
 # 2. configures, builds (warnings are errors here) and tests the scalar, sse2, avx2 and
 #    avx512 variants - tests of an instruction set this CPU lacks are reported as skipped;
 # 3. an AddressSanitizer + UndefinedBehaviorSanitizer build (avx2), tests only;
-#    a ThreadSanitizer build of the threaded step's test (avx2);
+#    a ThreadSanitizer build of the threaded step's test (sse2);
 #    a clang build (avx2), tests only;
 # 4. the cross-build determinism check: every deterministic build that ran (g++ and clang)
 #    must print the same golden hashes (each also compares with tests/determinism/golden.txt);
@@ -91,7 +91,8 @@ fi
 step "thread sanitizer: build (the threaded step's test)"
 # Only plume_thread_tests and the libraries (tests/world/test_threads.cpp): the world stepped
 # on 1, 2 and 8 threads and by random range orders, and the pool under several callers. A race
-# halts the test with TSan's report.
+# halts the test with TSan's report. The sse2 variant: every x86-64 CPU runs it, so the
+# stage never skips.
 if configure_build_target tsan plume_thread_tests; then
   step "thread sanitizer: tests"
   TSAN_OPTIONS="halt_on_error=1 exitcode=66" \

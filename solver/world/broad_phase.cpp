@@ -1,5 +1,6 @@
 // The world's broad phases (include/plume/solver/world/broad_phase.hpp).
 #include <plume/solver/world/broad_phase.hpp>
+#include <plume/solver/world/tasks.hpp>
 
 #include <algorithm>
 
@@ -70,7 +71,7 @@ void BvhBroadPhase::set_box(std::uint32_t index, Aabb3 const& box, ProxyKind kin
   }
 }
 
-void BvhBroadPhase::update_candidates() {
+void BvhBroadPhase::update_candidates(TaskSystem* tasks) {
   auto const pair = [&](std::uint32_t i, std::uint32_t j) {
     return kinds_pair(slots_[i].kind, slots_[j].kind);
   };
@@ -83,38 +84,55 @@ void BvhBroadPhase::update_candidates() {
   };
   candidates_.erase(std::remove_if(candidates_.begin(), candidates_.end(), ended),
                     candidates_.end());
-  // New pairs, from the moved bodies only.
-  fresh_.clear();
+  // New pairs, from the moved bodies only: read-only queries, in chunks of 32 bodies whose
+  // keys go to lists of their own (so any thread may run a chunk), then merged and sorted.
   std::sort(moved_.begin(), moved_.end()); // the same queries in the same order, any history
   last_queries_ = 0;
   for (std::uint32_t i : moved_) {
     is_moved_[i] = 0;
-    if (!slots_[i].live) continue;
-    ++last_queries_;
-    Aabb3 const box = fat(i);
-    ProxyKind const own = slots_[i].kind;
-    auto const consider = [&](std::uint32_t j) {
-      if (j != i && bool(box.intersects(fat(j)))) fresh_.push_back(body_pair_key(i, j));
-    };
-    AabbTree const& statics = trees_[std::size_t(ProxyKind::static_body)];
-    if (kinds_pair(own, ProxyKind::static_body))
-      query_static(box, [&](ProxyId p) {
-        consider(std::uint32_t(statics.user(p)));
-        return true;
-      });
-    for (ProxyKind kind :
-         {ProxyKind::kinematic, ProxyKind::dynamic, ProxyKind::standalone, ProxyKind::sleeping}) {
-      if (!kinds_pair(own, kind)) continue;
-      AabbTree const& t = trees_[std::size_t(kind)];
-      t.query(box, [&](ProxyId p) {
-        consider(std::uint32_t(t.user(p)));
-        return true;
-      });
-    }
-    for (std::uint32_t j : unbounded_)
-      if (pair(i, j)) consider(j);
+    last_queries_ += slots_[i].live ? 1 : 0;
   }
+  constexpr std::uint32_t chunk_size = 32;
+  std::uint32_t const moved_count = std::uint32_t(moved_.size());
+  std::uint32_t const chunks = (moved_count + chunk_size - 1) / chunk_size;
+  if (fresh_chunks_.size() < chunks) fresh_chunks_.resize(chunks);
+  parallel_for(tasks, chunks, 2, [&](std::uint32_t begin, std::uint32_t end) {
+    for (std::uint32_t chunk = begin; chunk < end; ++chunk) {
+      std::vector<std::uint64_t>& out = fresh_chunks_[chunk];
+      out.clear();
+      std::uint32_t const last = std::min(moved_count, (chunk + 1) * chunk_size);
+      for (std::uint32_t m = chunk * chunk_size; m < last; ++m) {
+        std::uint32_t const i = moved_[m];
+        if (!slots_[i].live) continue;
+        Aabb3 const box = fat(i);
+        ProxyKind const own = slots_[i].kind;
+        auto const consider = [&](std::uint32_t j) {
+          if (j != i && bool(box.intersects(fat(j)))) out.push_back(body_pair_key(i, j));
+        };
+        AabbTree const& statics = trees_[std::size_t(ProxyKind::static_body)];
+        if (kinds_pair(own, ProxyKind::static_body))
+          query_static(box, [&](ProxyId p) {
+            consider(std::uint32_t(statics.user(p)));
+            return true;
+          });
+        for (ProxyKind kind : {ProxyKind::kinematic, ProxyKind::dynamic, ProxyKind::standalone,
+                               ProxyKind::sleeping}) {
+          if (!kinds_pair(own, kind)) continue;
+          AabbTree const& t = trees_[std::size_t(kind)];
+          t.query(box, [&](ProxyId p) {
+            consider(std::uint32_t(t.user(p)));
+            return true;
+          });
+        }
+        for (std::uint32_t j : unbounded_)
+          if (pair(i, j)) consider(j);
+      }
+    }
+  });
   moved_.clear();
+  fresh_.clear();
+  for (std::uint32_t chunk = 0; chunk < chunks; ++chunk)
+    fresh_.insert(fresh_.end(), fresh_chunks_[chunk].begin(), fresh_chunks_[chunk].end());
   if (fresh_.empty()) return;
   std::sort(fresh_.begin(), fresh_.end());
   std::size_t const old = candidates_.size();

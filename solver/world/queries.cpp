@@ -70,12 +70,19 @@ Aabb3 clamp_box(Aabb3 const& b) { // infinite query boxes become the largest fin
 
 } // namespace
 
-void World::sync_trees() const {
+void World::sync_trees(TaskSystem* tasks) const {
   if (trees_synced_) return;
   auto const refit = [&](std::uint32_t i) { bvh_.set_box(i, grown_aabb(i), moving_kind(i)); };
   if (all_moving_stale_) {
-    for (std::uint32_t i : moving_bodies_)
-      refit(i);
+    // The boxes on the tasks' threads, then the trees, in body order.
+    std::uint32_t const n = std::uint32_t(moving_bodies_.size());
+    moving_boxes_.resize(n);
+    parallel_for(tasks, n, 256, [&](std::uint32_t begin, std::uint32_t end) {
+      for (std::uint32_t k = begin; k < end; ++k)
+        moving_boxes_[k] = grown_aabb(moving_bodies_[k]);
+    });
+    for (std::uint32_t k = 0; k < n; ++k)
+      bvh_.set_box(moving_bodies_[k], moving_boxes_[k], moving_kind(moving_bodies_[k]));
   } else { // only what was edited, in index order as the full pass would meet them
     std::sort(stale_moving_.begin(), stale_moving_.end());
     stale_moving_.erase(std::unique(stale_moving_.begin(), stale_moving_.end()),

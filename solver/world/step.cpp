@@ -118,13 +118,16 @@ void World::find_pairs() {
   };
   if (config_.broad_phase == BroadPhaseKind::sort_and_sweep) {
     boxes_.resize(bodies_.size());
-    for (std::uint32_t i = 0; i < bodies_.size(); ++i)
-      boxes_[i] = grown_aabb(i);
+    parallel_for(config_.tasks, std::uint32_t(bodies_.size()), min_bodies,
+                 [&](std::uint32_t begin, std::uint32_t end) {
+                   for (std::uint32_t i = begin; i < end; ++i)
+                     boxes_[i] = grown_aabb(i);
+                 });
     sort_and_sweep_.find_pairs(boxes_, keep, pairs_);
     return;
   }
-  sync_trees(); // a no-op when nothing changed since the last step's end
-  bvh_.find_pairs(keep, pairs_);
+  sync_trees(config_.tasks); // a no-op when nothing changed since the last step's end
+  bvh_.find_pairs(keep, pairs_, config_.tasks);
 }
 
 /// Pairs with a sensor leave pairs_ (no manifold, no contact) for sensor_pairs_.
@@ -521,7 +524,7 @@ void World::step_with(float dt) {
     all_moving_stale_ = true; // the list of single edits is moot until the next sync
     stale_moving_.clear();
   }
-  if (config_.broad_phase == BroadPhaseKind::bvh) sync_trees();
+  if (config_.broad_phase == BroadPhaseKind::bvh) sync_trees(config_.tasks);
   profile_.finalize = seconds_since(t_finalize) - profile_.continuous;
   auto const t_sleep = clock::now();
   update_sleep(dt);

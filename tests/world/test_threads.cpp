@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <memory>
 #include <mutex>
 #include <numeric>
@@ -37,21 +38,24 @@ constexpr int determinism_steps = 40;
 #endif
 
 /// A task system for tests: every task split into ranges of exactly min_range items (the
-/// last shorter), run inline in a random order (seeded), and every (count, min_range) seen
-/// recorded, so a test can tell which of the world's stages went through it.
+/// last shorter; with `single`, of one item, below what the world asks for, which must not
+/// change its result either), run inline in a random order (seeded), and every
+/// (count, min_range) seen recorded, so a test can tell which of the world's stages went
+/// through it.
 class ShuffledTasks final : public TaskSystem {
 public:
-  explicit ShuffledTasks(std::uint32_t seed) : rng_(seed) {}
+  explicit ShuffledTasks(std::uint32_t seed, bool single = false) : rng_(seed), single_(single) {}
   std::uint32_t worker_count() const noexcept override { return 4; }
   void* enqueue(TaskFn fn, std::uint32_t count, std::uint32_t min_range, void* context) override {
     min_ranges.insert(min_range);
     ++tasks;
+    std::uint32_t const range = single_ ? 1 : min_range;
     std::vector<std::uint32_t> starts;
-    for (std::uint32_t b = 0; b < count; b += min_range)
+    for (std::uint32_t b = 0; b < count; b += range)
       starts.push_back(b);
     std::shuffle(starts.begin(), starts.end(), rng_);
     for (std::uint32_t b : starts)
-      fn(b, std::min(count, b + min_range), std::uint32_t(rng_() % 4), context);
+      fn(b, std::min(count, b + range), std::uint32_t(rng_() % 4), context);
     return nullptr;
   }
   void wait(void*) override { FAIL("wait() on a task enqueue() finished"); }
@@ -61,12 +65,14 @@ public:
 
 private:
   std::mt19937 rng_;
+  bool single_;
 };
 
 /// Enough work that every parallel stage exceeds its minimum range at the widest width: a
 /// 10-layer box pyramid (385 boxes), two chains of 150 capsules on spherical joints, spheres
-/// and capsules falling on a triangle-mesh floor beside it, and one body that turns
-/// non-finite (frozen in finalize) and one fast one (continuous collision).
+/// and capsules falling on a triangle-mesh floor beside it, a chain of five links driven by an
+/// absurd motor (its bodies turn non-finite and freeze in finalize), and one fast body
+/// (continuous collision).
 World make_scene() {
   World w;
   add_ground(w);
@@ -108,11 +114,24 @@ World make_scene() {
   fast.pose = Iso3::from_translation({0.0f, 30.0f, 20.0f});
   fast.linear_velocity = {0.0f, -300.0f, 0.0f};
   w.create_body(fast);
-  BodyDef wild;
-  wild.shape = Sphere{0.2f};
-  wild.pose = Iso3::from_translation({0.0f, 5.0f, -20.0f});
-  wild.linear_velocity = {3e38f, 0.0f, 0.0f}; // its step overflows: frozen
-  w.create_body(wild);
+  BodyId prev = w.create_body({.type = BodyType::static_body,
+                               .pose = Iso3::from_translation({0.0f, 5.0f, -20.0f}),
+                               .shape = Sphere{0.1f}})
+                    .id;
+  for (int i = 0; i < 5; ++i) {
+    BodyId const link =
+        w.create_body({.pose = Iso3::from_translation({0.5f + float(i), 5.0f, -20.0f}),
+                       .shape = Cuboid{{0.45f, 0.1f, 0.1f}}})
+            .id;
+    Vec3 const at{float(i), 5.0f, -20.0f};
+    REQUIRE(w.create_joint({.body_a = prev,
+                            .body_b = link,
+                            .frame_a = w.joint_frame(prev, at, Vec3::Z, Vec3::X),
+                            .frame_b = w.joint_frame(link, at, Vec3::Z, Vec3::X),
+                            .type = RevoluteJoint{.motor = Motor::velocity_control(3e38f, 1e38f)}})
+                .error == JointError::none);
+    prev = link;
+  }
   return w;
 }
 
@@ -124,7 +143,12 @@ std::uint64_t run(int steps, Pick&& pick) {
     w.set_task_system(pick(s));
     w.template step_with<T>(dt);
   }
-  return w.state_hash();
+  REQUIRE(!w.frozen_bodies().empty()); // the motor's chain went through the freezing path
+  // The frozen list's order is part of the result.
+  std::uint64_t h = w.state_hash();
+  for (BodyId b : w.frozen_bodies())
+    h = h * 1099511628211u ^ b.index;
+  return h;
 }
 
 } // namespace
@@ -208,6 +232,53 @@ TEST_CASE("ThreadPool: several threads enqueue and wait at once", "[threads]") {
     CHECK(sums[c] == 200u * (c + 1) * (511u * 512u / 2));
 }
 
+#if defined(__SSE__) || defined(__x86_64__)
+TEST_CASE("Ranges run with the calling thread's floating-point environment", "[threads]") {
+  ThreadPool pool(3); // its workers start with this thread's MXCSR as it is now
+  unsigned const before = _mm_getcsr();
+  unsigned const ftz_daz = before | 0x8040u; // flush to zero, denormals are zero
+  _mm_setcsr(ftz_daz);
+  std::vector<unsigned> seen(64, 0);
+  std::atomic<int> off_thread{0};
+  std::thread::id const me = std::this_thread::get_id();
+  for (int round = 0; round < 20 && off_thread.load() == 0; ++round)
+    parallel_for(&pool, 64, 1, [&](std::uint32_t begin, std::uint32_t end) {
+      if (std::this_thread::get_id() != me) off_thread.fetch_add(1);
+      for (std::uint32_t i = begin; i < end; ++i)
+        seen[i] = _mm_getcsr();
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+    });
+  unsigned const after = _mm_getcsr();
+  _mm_setcsr(before);
+  CHECK(after == ftz_daz); // the caller's own setting is left as it was
+  CHECK(off_thread.load() > 0);
+  for (unsigned m : seen)
+    CHECK(m == ftz_daz);
+
+  // And a host's thread that ran a range gets its own setting back afterwards.
+  struct OtherThread final : TaskSystem {
+    unsigned own = 0, during = 0, after = 0;
+    std::uint32_t worker_count() const noexcept override { return 2; }
+    void* enqueue(TaskFn fn, std::uint32_t count, std::uint32_t, void* context) override {
+      std::thread([&] {
+        _mm_setcsr(own); // the host thread's own setting (a new thread inherits its creator's)
+        fn(0, count, 1, context);
+        after = _mm_getcsr();
+      }).join();
+      return nullptr;
+    }
+    void wait(void*) override {}
+  } host;
+  host.own = before;
+  _mm_setcsr(ftz_daz);
+  parallel_for(&host, 8, 1, [&](std::uint32_t, std::uint32_t) { host.during = _mm_getcsr(); });
+  _mm_setcsr(before);
+  CHECK(host.during == ftz_daz);
+  CHECK(host.after == host.own);
+  CHECK(host.own != ftz_daz);
+}
+#endif
+
 TEST_CASE("The world's stages go through the task system", "[threads]") {
   ShuffledTasks tasks(7);
   run<f32xN>(3, [&](int) { return &tasks; });
@@ -231,6 +302,8 @@ TEMPLATE_LIST_TEST_CASE("The world is bitwise the same for every task system and
   CHECK(run<T>(steps, [&](int) { return &inline_tasks; }) == reference);
   ShuffledTasks shuffled(1234);
   CHECK(run<T>(steps, [&](int) { return &shuffled; }) == reference);
+  ShuffledTasks single(99, true);
+  CHECK(run<T>(steps, [&](int) { return &single; }) == reference);
   for (std::uint32_t threads : {0u, 1u, 2u, 8u}) {
     ThreadPool pool(threads);
     INFO("threads: " << threads);

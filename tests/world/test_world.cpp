@@ -338,6 +338,61 @@ TEST_CASE("world: bad input is rejected or contained", "[world][bad-input]") {
   CHECK(w.linear_velocity(ground).length() == 0.0f);
 }
 
+TEST_CASE("world: a body that turns non-finite freezes and loses its contacts and impulses",
+          "[world][bad-input]") {
+  // Links on the ground, hinged end to end and driven by a motor: an absurd one turns their
+  // state non-finite, and in the step each freezes in, its contacts end (the next step finds
+  // them again with the body static) and its joints' impulses start afresh.
+  auto const make = [](Motor const& motor, std::vector<JointId>& hinges) {
+    World w;
+    add_ground(w);
+    BodyId prev = w.create_body({.type = BodyType::static_body,
+                                 .pose = Iso3::from_translation({0.0f, 0.1f, 0.0f}),
+                                 .shape = Sphere{0.05f}})
+                      .id;
+    for (int i = 0; i < 5; ++i) {
+      BodyId const link =
+          w.create_body({.pose = Iso3::from_translation({0.5f + float(i), 0.1f, 0.0f}),
+                         .shape = Cuboid{{0.45f, 0.1f, 0.1f}}})
+              .id;
+      Vec3 const at{float(i), 0.1f, 0.0f};
+      hinges.push_back(w.create_joint({.body_a = prev,
+                                       .body_b = link,
+                                       .frame_a = w.joint_frame(prev, at, Vec3::Z, Vec3::X),
+                                       .frame_b = w.joint_frame(link, at, Vec3::Z, Vec3::X),
+                                       .type = RevoluteJoint{.motor = motor}})
+                           .id);
+      prev = link;
+    }
+    return w;
+  };
+  std::vector<JointId> hinges;
+  { // With a sane motor the links touch the ground in the first step: contacts to lose.
+    World calm = make(Motor::velocity_control(1.0f, 10.0f), hinges);
+    calm.step(dt);
+    CHECK(calm.contacts().size() >= 5);
+    hinges.clear();
+  }
+  World w = make(Motor::velocity_control(3e38f, 1e38f), hinges);
+  std::size_t seen = 0;
+  for (int s = 0; s < 20 && w.frozen_bodies().size() < 5; ++s) {
+    w.step(dt);
+    std::span<BodyId const> const frozen = w.frozen_bodies();
+    for (std::size_t k = seen; k < frozen.size(); ++k) { // frozen in this step
+      INFO("body " << frozen[k].index << " froze in step " << s + 1);
+      CHECK(w.is_frozen(frozen[k]));
+      for (Contact const& c : w.contacts())
+        CHECK((c.body_a != frozen[k].index && c.body_b != frozen[k].index));
+      CHECK(w.linear_velocity(frozen[k]).length() == 0.0f);
+    }
+    seen = frozen.size();
+  }
+  CHECK(seen > 0);
+  for (JointId j : hinges) // the impulses of frozen bodies' joints start afresh: finite
+    CHECK((w.joint_state(j).reaction_force.is_finite() &&
+           w.joint_state(j).reaction_torque.is_finite()));
+}
+
 TEST_CASE("world: a 1:1000 mass ratio stack stays finite and above the ground",
           "[world][bad-input]") {
   World w;

@@ -42,6 +42,8 @@
 
 namespace plume {
 
+class TaskSystem; // solver/world/tasks.hpp
+
 /// A body pair as one sortable key: the smaller index in the high 32 bits.
 constexpr std::uint64_t body_pair_key(std::uint32_t a, std::uint32_t b) noexcept {
   return a < b ? (std::uint64_t(a) << 32) | b : (std::uint64_t(b) << 32) | a;
@@ -114,9 +116,10 @@ public:
   void set_box(std::uint32_t index, Aabb3 const& box, ProxyKind kind);
   /// The pairs (i, j) whose boxes overlap, of kinds that pair (kinds_pair), for which keep(i, j)
   /// holds, as body_pair_key()s in increasing order, written to `pairs` (cleared first).
-  /// Optimises the trees first; then queries the trees for the moved bodies only.
+  /// Optimises the trees first; then queries the trees for the moved bodies only, in chunks
+  /// run through `tasks` when given (solver/world/tasks.hpp; the same pairs either way).
   template <class Keep>
-  void find_pairs(Keep&& keep, std::vector<std::uint64_t>& pairs);
+  void find_pairs(Keep&& keep, std::vector<std::uint64_t>& pairs, TaskSystem* tasks = nullptr);
 
   /// The box body `index` last got (the exact box the pairs are checked on).
   Aabb3 const& box(std::uint32_t index) const { return slots_.at(index).box; }
@@ -179,7 +182,7 @@ private:
     return s.unbounded ? s.box : trees_[std::size_t(s.kind)].fat_box(s.proxy);
   }
   void mark_moved(std::uint32_t i);
-  void update_candidates();
+  void update_candidates(TaskSystem* tasks);
 
   std::array<AabbTree, proxy_kind_count> trees_; ///< by ProxyKind
   std::vector<Slot> slots_;
@@ -187,6 +190,7 @@ private:
   std::vector<std::uint32_t> moved_;              ///< bodies to query for new pairs, each once
   std::vector<char> is_moved_;                    ///< by body: in moved_
   std::vector<std::uint64_t> candidates_, fresh_; ///< sorted keys; this step's new ones
+  std::vector<std::vector<std::uint64_t>> fresh_chunks_; ///< new keys per chunk of moved_
   std::size_t last_queries_ = 0;
   bool static_changed_ = false;
   WideBvh static_wide_;
@@ -195,9 +199,9 @@ private:
 };
 
 template <class Keep>
-void BvhBroadPhase::find_pairs(Keep&& keep, std::vector<std::uint64_t>& pairs) {
+void BvhBroadPhase::find_pairs(Keep&& keep, std::vector<std::uint64_t>& pairs, TaskSystem* tasks) {
   optimize();
-  update_candidates();
+  update_candidates(tasks);
   pairs.clear();
   for (std::uint64_t k : candidates_) {
     std::uint32_t const i = body_pair_first(k), j = body_pair_second(k);

@@ -18,7 +18,10 @@
 // of its own (a body's state, a block's lanes, a fixed chunk of pairs' manifolds) and merges
 // lists in item order afterwards, so the world is bitwise the same for any task system, any
 // split and any thread count (tests/world/test_threads.cpp runs the ranges in random order,
-// one item at a time, and with 1, 2 and 8 threads).
+// one item at a time or min_range items at a time, and with 1, 2 and 8 threads). Each range
+// runs with the floating-point environment (MXCSR on x86: flush-to-zero, rounding) of the
+// thread that called parallel_for, whatever thread runs it, so a host that changes its own
+// thread's settings does not make workers compute differently.
 //
 // ThreadPool: threads - 1 workers (std::jthread) plus the thread that waits, which helps with
 // the ranges of the task it waits for (as worker 0). Idle workers spin for 50 us, then block
@@ -30,6 +33,9 @@
 #pragma once
 
 #include <cstdint>
+#if defined(__SSE__) || defined(__x86_64__)
+#include <xmmintrin.h> // _mm_getcsr, _mm_setcsr
+#endif
 #include <memory>
 #include <thread>
 #include <type_traits>
@@ -37,8 +43,9 @@
 
 namespace plume {
 
-/// A range task: runs items [begin, end) of the task; worker < worker_count() names the
-/// thread (for scratch memory of its own; the world does not use it).
+/// A range task: runs items [begin, end) of the task; worker < worker_count() tells apart the
+/// threads that run ranges of one task at once (for scratch memory of their own; the world
+/// does not use it).
 using TaskFn = void (*)(std::uint32_t begin, std::uint32_t end, std::uint32_t worker,
                         void* context);
 
@@ -99,7 +106,7 @@ namespace plume {
 /// Runs f(begin, end) over sub-ranges of [0, count) that cover every index once, through
 /// `tasks` (ranges of at least min_range indices, in any order, on any of its threads), and
 /// returns when all have run. Inline, as f(0, count), when tasks is null, has one worker, or
-/// count <= min_range. f must not throw.
+/// count <= min_range. f must not throw (a throw from a range run as a task terminates).
 template <class F>
 void parallel_for(TaskSystem* tasks, std::uint32_t count, std::uint32_t min_range, F&& f) {
   if (count == 0) return;
@@ -107,12 +114,27 @@ void parallel_for(TaskSystem* tasks, std::uint32_t count, std::uint32_t min_rang
     f(std::uint32_t(0), count);
     return;
   }
-  using G = std::remove_cvref_t<F>;
-  TaskFn const fn = [](std::uint32_t begin, std::uint32_t end, std::uint32_t, void* context) {
-    (*static_cast<G*>(context))(begin, end);
+  struct Context {
+    std::remove_reference_t<F>* f;
+    unsigned fp_env; ///< the caller's MXCSR (x86), applied around each range
   };
-  if (void* const task = tasks->enqueue(fn, count, min_range, const_cast<G*>(&f)))
-    tasks->wait(task);
+  Context context{&f, 0u};
+#if defined(__SSE__) || defined(__x86_64__)
+  context.fp_env = _mm_getcsr();
+#endif
+  // noexcept: a throwing range ends the program (a task system cannot carry it back).
+  TaskFn const fn = [](std::uint32_t begin, std::uint32_t end, std::uint32_t, void* c) noexcept {
+    Context const& ctx = *static_cast<Context const*>(c);
+#if defined(__SSE__) || defined(__x86_64__)
+    unsigned const own = _mm_getcsr();
+    if (own != ctx.fp_env) _mm_setcsr(ctx.fp_env);
+    (*ctx.f)(begin, end);
+    if (own != ctx.fp_env) _mm_setcsr(own);
+#else
+    (*ctx.f)(begin, end);
+#endif
+  };
+  if (void* const task = tasks->enqueue(fn, count, min_range, &context)) tasks->wait(task);
 }
 
 } // namespace plume

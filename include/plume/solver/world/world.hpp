@@ -74,12 +74,13 @@
 // nothing can wake a body mid-step.
 //
 // Threads (WorldConfig::tasks, set_task_system; solver/world/tasks.hpp): with a task system
-// of more than one worker, the narrow phase (chunks of 16 pairs), the bodies' preparation,
-// integration and finalisation, the packing of contacts and joints, and each colour's blocks
-// in every solver pass run as range tasks; the rest of the step (broad phase, contact cache,
+// of more than one worker, the bodies' AABBs, the broad phase's queries for moved bodies
+// (chunks of 32), the narrow phase (chunks of 16 pairs), the bodies' preparation, integration
+// and finalisation, the packing of contacts and joints, and each colour's blocks in every
+// solver pass run as range tasks; the rest of the step (the trees' edits, the contact cache,
 // colouring, events, continuous collision, sleeping) runs on the calling thread. Each task
 // writes only its own items' results, so the world is bitwise the same for any task system
-// and thread count; a stage with little work (fewer items than its minimum range) runs
+// and thread count; a stage with little work (no more items than its minimum range) runs
 // inline. The step's calling thread must be the only one using the world during the step.
 //
 // Out of scope for this version (named, not stubbed): compound bodies (one shape per body).
@@ -878,7 +879,9 @@ private:
   // The stages of a step, in order (solver/world/step.cpp).
   void find_pairs();
   Aabb3 grown_aabb(std::uint32_t i) const;
-  void sync_trees() const;
+  /// Files the edits since the last sync in the broad phase's trees. With `tasks` (the step's),
+  /// the boxes of a full refit are computed on its threads.
+  void sync_trees(TaskSystem* tasks = nullptr) const;
   /// The broad-phase kind of a kinematic or dynamic body (asleep: the sleeping tree).
   ProxyKind moving_kind(std::uint32_t i) const noexcept {
     Body const& b = bodies_[i];
@@ -988,6 +991,7 @@ private:
   mutable BvhBroadPhase bvh_;
   mutable bool trees_synced_ = false;
   std::vector<Aabb3> boxes_;                 ///< sort and sweep: this step's grown AABBs, by body
+  mutable std::vector<Aabb3> moving_boxes_;  ///< sync_trees(): a full refit's boxes, by moving body
   std::vector<std::uint32_t> moving_bodies_; ///< every kinematic and dynamic body, by index
   mutable std::vector<std::uint32_t>
       stale_statics_; ///< statics created or moved since the last sync
