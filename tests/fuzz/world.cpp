@@ -23,7 +23,8 @@
 //    have not moved,
 //    frozen bodies are listed, events list live-at-the-time pairs in increasing order with the
 //    lower slot first, and joint states are finite; step_with<T> gives the world step() gives for
-//    float and every f32 width the build has;
+//    float and every f32 width the build has, and so does a step whose parallel stages run as
+//    one-item tasks in reverse order;
 //  - sleeping: sleeping_count() counts the sleeping bodies, each dynamic, unfrozen and stopped;
 //    a body created asleep (or put to sleep) is asleep, a woken one awake; fell_asleep lists,
 //    by index, bodies asleep after the step;
@@ -424,6 +425,18 @@ void check_mirror(plume::World const& w, Mirror const& m) {
   PLUME_FUZZ_CHECK(!w.is_alive(BodyId{}));
   PLUME_FUZZ_CHECK(!w.is_alive(JointId{}));
 }
+
+/// A task system that runs every range as one item, last first, inline: below the world's
+/// minimum ranges and in reverse, which must not change the world (tasks.hpp).
+struct ReversedTasks final : plume::TaskSystem {
+  std::uint32_t worker_count() const noexcept override { return 4; }
+  void* enqueue(plume::TaskFn fn, std::uint32_t count, std::uint32_t, void* context) override {
+    for (std::uint32_t i = count; i-- > 0;)
+      fn(i, i + 1, i % 4, context);
+    return nullptr;
+  }
+  void wait(void*) override {}
+};
 
 /// A snapshot of what a refused call must leave alone.
 struct Snapshot {
@@ -1012,14 +1025,21 @@ void step(plume::World& w, Mirror& m, Input& in, int& steps) {
     if (c.alive) static_poses.push_back(w.pose(c.id));
   bool const ignored = !(dt >= plume::World::min_dt && dt <= plume::World::max_dt);
   // step_with<T> gives the world step() gives, for every width the build has.
+  // And so does a step whose parallel stages run as reversed one-item tasks.
   std::vector<std::uint64_t> widths;
   if constexpr (std::is_copy_constructible_v<plume::World>)
-    if ((k & 0x30) == 0x30)
+    if ((k & 0x30) == 0x30) {
       plume::fuzz::for_each_width([&]<class T>() {
         plume::World copy = w;
         copy.step_with<T>(dt);
         widths.push_back(copy.state_hash());
       });
+      ReversedTasks tasks;
+      plume::World copy = w;
+      copy.set_task_system(&tasks);
+      copy.step(dt);
+      widths.push_back(copy.state_hash());
+    }
   w.step(dt);
   if (ignored) {
     PLUME_FUZZ_CHECK(Snapshot(w) == before);
