@@ -758,6 +758,7 @@ public:
   /// May change between any two steps (another thread count, another system); the world's
   /// results do not depend on it.
   void set_task_system(TaskSystem* tasks) noexcept { config_.tasks = tasks; }
+  /// The task system of the following steps (WorldConfig::tasks; nullptr: one thread).
   TaskSystem* task_system() const noexcept { return config_.tasks; }
   /// The contacts of the last step that the solver worked on (those of awake bodies).
   std::span<Contact const> contacts() const noexcept { return cache_.contacts(); }
