@@ -1,6 +1,8 @@
 // The rigid-body world on box pyramids: steps per second for the whole step and for the
 // solver stages alone (prepare + substeps + restitution: the part written over T), at every
 // f32 width of the build. Names: world_step/<scene>/f32/plume/x<W>, world_solver/...
+// narrow_phase/<scene>/f32/plume/x<W>: the narrow phase's manifolds alone (items = pairs
+// tested), the cuboid pairs W at a time through the manifold kernel (x1: one at a time).
 //
 // Static-heavy scenes (spatial_static/<statics>/<broad phase>, items = world steps): a grid
 // of N static boxes (1 m apart) with 100 dynamic spheres resting on the 10 x 10 boxes at its
@@ -100,6 +102,26 @@ void register_width(int layers) {
                                })
       ->UseManualTime()
       ->Unit(benchmark::kMillisecond);
+  // The narrow phase's manifolds alone (StepProfile::manifolds as the manual time), items =
+  // the pairs it tested: the cuboid pairs W at a time through the manifold kernel.
+  benchmark::RegisterBenchmark(("narrow_phase/" + scene + w).c_str(),
+                               [layers](benchmark::State& st) {
+                                 World world = settled_pyramid(layers);
+                                 std::size_t pairs = 0;
+                                 for (auto _ : st) {
+                                   world.step_with<T>(1.0f / 60.0f);
+                                   StepProfile const& p = world.last_profile();
+                                   st.SetIterationTime(p.manifolds);
+                                   pairs += p.pairs;
+                                 }
+                                 st.SetItemsProcessed(std::int64_t(pairs));
+                                 StepProfile const& p = world.last_profile();
+                                 st.counters["pairs"] = double(p.pairs);
+                                 st.counters["box_pairs"] = double(p.box_pairs);
+                                 st.counters["general"] = double(p.general_box_pairs);
+                               })
+      ->UseManualTime()
+      ->Unit(benchmark::kMicrosecond);
 }
 
 /// world_step/<scene>/f32/plume/x<W>/t<threads>: the whole step on a ThreadPool of `threads`

@@ -21,8 +21,9 @@ bool finite(Quat const& q) { return q.is_finite(); }
 
 // The parallel stages' smallest ranges (tasks.hpp): below these, a range's work costs less than
 // handing it to another thread. Pairs go in chunks of collide_chunk, each chunk's manifolds in
-// a list of its own (merged in chunk order).
-constexpr std::uint32_t collide_chunk = 16;
+// a list of its own (merged in chunk order); a chunk's cuboid pairs go through the manifold
+// kernel lanes_v<f32xN> at a time, so a chunk holds two batches of the widest width.
+constexpr std::uint32_t collide_chunk = 32;
 constexpr std::uint32_t min_chunks = 2;
 constexpr std::uint32_t min_bodies = 256;
 constexpr std::uint32_t min_blocks = 4;
@@ -200,30 +201,105 @@ void World::update_events() {
 }
 
 /// Narrow phase: a manifold per pair, then the contact cache matches them with last step's.
+/// Cuboid pairs go through box_pair_manifold lanes_v<W> at a time (a chunk's pairs in order,
+/// the last batch padded with its last pair), the lanes it leaves to the general path through
+/// detail::box_pair_general, every other pair through detail::collide. The kernel's lanes
+/// equal its scalar calls, and contact_manifold's cuboid pair is that scalar call, so every
+/// build and every width gives the same manifolds.
+template <class W>
 void World::collide_pairs() {
+  constexpr std::size_t L = lanes_v<W>;
+  auto const t_start = clock::now();
   std::uint32_t const pair_count = std::uint32_t(pairs_.size());
   std::uint32_t const chunks = (pair_count + collide_chunk - 1) / collide_chunk;
   if (found_chunks_.size() < chunks) found_chunks_.resize(chunks);
+  if (chunk_counts_.size() < chunks) chunk_counts_.resize(chunks);
   parallel_for(config_.tasks, chunks, min_chunks, [&](std::uint32_t begin, std::uint32_t end) {
     std::array<Manifold, max_mesh_manifolds> ms;
+    std::array<Manifold, collide_chunk> box; // a cuboid pair's manifold, by place in the chunk
+    std::array<bool, collide_chunk> boxed;   // ... when the kernel computed it
+    std::array<std::uint32_t, collide_chunk> box_pairs;
     for (std::uint32_t chunk = begin; chunk < end; ++chunk) {
       std::vector<PairManifold>& out = found_chunks_[chunk];
       out.clear();
-      std::uint32_t const last = std::min(pair_count, (chunk + 1) * collide_chunk);
-      for (std::uint32_t p = chunk * collide_chunk; p < last; ++p) {
+      std::uint32_t const first = chunk * collide_chunk;
+      std::uint32_t const last = std::min(pair_count, first + collide_chunk);
+      std::uint32_t boxes = 0;
+      chunk_counts_[chunk] = {};
+      for (std::uint32_t p = first; p < last; ++p) {
+        boxed[p - first] = false;
+        if (std::holds_alternative<Cuboid>(bodies_[body_pair_first(pairs_[p])].shape) &&
+            std::holds_alternative<Cuboid>(bodies_[body_pair_second(pairs_[p])].shape))
+          box_pairs[boxes++] = p - first;
+      }
+      chunk_counts_[chunk][0] = boxes;
+      for (std::uint32_t g = 0; g < boxes; g += std::uint32_t(L)) {
+        // Lanes by component: half extents, rotations, translations of A, then of B.
+        std::array<std::array<float, L>, 20> in;
+        for (std::size_t l = 0; l < L; ++l) {
+          std::uint64_t const pair =
+              pairs_[first + box_pairs[std::min<std::size_t>(g + l, boxes - 1)]];
+          Body const* const two[2] = {&bodies_[body_pair_first(pair)],
+                                      &bodies_[body_pair_second(pair)]};
+          for (std::size_t s = 0; s < 2; ++s) {
+            Vec3 const e = std::get<Cuboid>(two[s]->shape).half_extents;
+            Quat const& q = two[s]->pose.rotation;
+            Vec3 const& t = two[s]->pose.translation;
+            float const v[10] = {e.x, e.y, e.z, q.x, q.y, q.z, q.w, t.x, t.y, t.z};
+            for (std::size_t c = 0; c < 10; ++c)
+              in[10 * s + c][l] = v[c];
+          }
+        }
+        auto const col = [&](std::size_t c) { return from_array<W>(in[c]); };
+        auto const extents = [&](std::size_t o) {
+          return GVec3<W>{col(o), col(o + 1), col(o + 2)};
+        };
+        auto const pose = [&](std::size_t o) {
+          return GIso3<W>{GQuat<W>{col(o), col(o + 1), col(o + 2), col(o + 3)},
+                          GVec3<W>{col(o + 4), col(o + 5), col(o + 6)}};
+        };
+        GBoxPairManifold<W> const w = box_pair_manifold(extents(0), pose(3), extents(10), pose(13),
+                                                        config_.manifold.prediction);
+        std::uint64_t const general = bitmask(w.general);
+        for (std::size_t l = 0; l < L && g + l < boxes; ++l) {
+          std::uint32_t const k = box_pairs[g + l];
+          if ((general >> l) & 1u) { // what contact_manifold would do after the kernel
+            ++chunk_counts_[chunk][1];
+            Body const& a = bodies_[body_pair_first(pairs_[first + k])];
+            Body const& b = bodies_[body_pair_second(pairs_[first + k])];
+            box[k] = detail::box_pair_general(std::get<Cuboid>(a.shape), a.pose,
+                                              std::get<Cuboid>(b.shape), b.pose, config_.manifold);
+          } else {
+            box[k] = w.lane(l);
+          }
+          boxed[k] = true;
+        }
+      }
+      for (std::uint32_t p = first; p < last; ++p) {
         std::uint64_t const pair = pairs_[p];
         Body const& a = bodies_[body_pair_first(pair)];
         Body const& b = bodies_[body_pair_second(pair)];
-        int const n = detail::collide(a.shape, a.pose, b.shape, b.pose, config_.manifold, ms);
+        Manifold const* found = &box[p - first];
+        int n = found->empty() && !found->failed ? 0 : 1; // as detail::collide counts
+        if (!boxed[p - first]) {
+          n = detail::collide(a.shape, a.pose, b.shape, b.pose, config_.manifold, ms);
+          found = ms.data();
+        }
         for (int k = 0; k < n; ++k)
-          out.push_back({pair, ms[std::size_t(k)], std::sqrt(a.friction * b.friction),
+          out.push_back({pair, found[k], std::sqrt(a.friction * b.friction),
                          std::max(a.restitution, b.restitution), a.is_dynamic(), b.is_dynamic()});
       }
     }
   });
   found_.clear();
-  for (std::uint32_t chunk = 0; chunk < chunks; ++chunk)
+  profile_.pairs = pair_count;
+  profile_.box_pairs = profile_.general_box_pairs = 0;
+  for (std::uint32_t chunk = 0; chunk < chunks; ++chunk) {
     found_.insert(found_.end(), found_chunks_[chunk].begin(), found_chunks_[chunk].end());
+    profile_.box_pairs += chunk_counts_[chunk][0];
+    profile_.general_box_pairs += chunk_counts_[chunk][1];
+  }
+  profile_.manifolds = seconds_since(t_start);
   cache_.update(found_, config_.contact_match_distance);
 }
 
@@ -490,7 +566,7 @@ void World::step_with(float dt) {
   profile_.broad_phase = seconds_since(t_start);
 
   auto const t_narrow = clock::now();
-  collide_pairs();
+  collide_pairs<T>();
   update_events();
   color_joints();
   profile_.narrow_phase = seconds_since(t_narrow);

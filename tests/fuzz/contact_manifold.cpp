@@ -12,7 +12,8 @@
 //  - consistent with the pair's signed distance s (penetration(), or the plane distance for a
 //    half-space): no points only when s > prediction (within the tolerance); with points,
 //    the deepest separation is s (single-point pairs and half-spaces, where the deepest point
-//    is kept), or within the reference face's tilt of it (clipped pairs).
+//    is kept), or within the reference face's tilt of it (clipped pairs);
+//  - two cuboids: box_pair_manifold's lanes equal its scalar calls (check_lanes).
 #include "fuzz_input.hpp"
 #include "fuzz_shapes.hpp"
 
@@ -20,6 +21,7 @@
 #include <plume/collision/manifold.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -100,9 +102,48 @@ double signed_distance(SA const& sa, Iso3 const& pa, SB const& sb, Iso3 const& p
   }
 }
 
+/// Two cuboids: box_pair_manifold at the build's widest width, the pair in the even lanes and
+/// the pair swapped in the odd ones, each lane bitwise equal to the scalar call on its inputs.
+void check_lanes(Cuboid const& sa, Iso3 const& pa, Cuboid const& sb, Iso3 const& pb,
+                 ManifoldConfig const& cfg) {
+  using W = f32xN;
+  GVec3<W> ea, eb;
+  GIso3<W> wa, wb;
+  for (std::size_t l = 0; l < lanes_v<W>; ++l) {
+    bool const swap = l % 2 == 1;
+    ea = with_lane(ea, l, swap ? sb.half_extents : sa.half_extents);
+    eb = with_lane(eb, l, swap ? sa.half_extents : sb.half_extents);
+    wa = with_lane(wa, l, swap ? pb : pa);
+    wb = with_lane(wb, l, swap ? pa : pb);
+  }
+  GBoxPairManifold<W> const w = box_pair_manifold(ea, wa, eb, wb, cfg.prediction);
+  auto const same = [](float x, float y) {
+    return std::bit_cast<std::uint32_t>(x) == std::bit_cast<std::uint32_t>(y);
+  };
+  auto const same3 = [&](Vec3 x, Vec3 y) {
+    return same(x.x, y.x) && same(x.y, y.y) && same(x.z, y.z);
+  };
+  for (std::size_t l = 0; l < lanes_v<W>; ++l) {
+    bool const swap = l % 2 == 1;
+    GBoxPairManifold<float> const s =
+        swap ? box_pair_manifold(sb.half_extents, pb, sa.half_extents, pa, cfg.prediction)
+             : box_pair_manifold(sa.half_extents, pa, sb.half_extents, pb, cfg.prediction);
+    PLUME_FUZZ_CHECK((((bitmask(w.general) >> l) & 1u) != 0) == s.general);
+    PLUME_FUZZ_CHECK((((bitmask(w.ref_is_b) >> l) & 1u) != 0) == s.ref_is_b);
+    PLUME_FUZZ_CHECK(same(lane(w.count, l), s.count) && same3(lane(w.normal, l), s.normal));
+    for (std::size_t k = 0; k < std::size_t(s.count); ++k)
+      PLUME_FUZZ_CHECK(same3(lane(w.point_a[k], l), s.point_a[k]) &&
+                       same3(lane(w.point_b[k], l), s.point_b[k]) &&
+                       same(lane(w.separation[k], l), s.separation[k]) &&
+                       same(lane(w.key[k], l), s.key[k]));
+  }
+}
+
 template <class SA, class SB>
 void check(SA const& sa, Operand const& a, Iso3 const& pa, SB const& sb, Operand const& b,
            Iso3 const& pb, ManifoldConfig const& cfg, bool hostile) {
+  if constexpr (std::is_same_v<SA, Cuboid> && std::is_same_v<SB, Cuboid>)
+    check_lanes(sa, pa, sb, pb, cfg);
   Manifold const m = contact_manifold(sa, pa, sb, pb, cfg);
   PLUME_FUZZ_CHECK(m.count >= 0 && m.count <= 4);
   bool const finite_input = pose_finite(pa) && pose_finite(pb) &&

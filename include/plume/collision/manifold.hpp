@@ -18,9 +18,12 @@
 // Pairs: spheres, capsules, cuboids, convex hulls and triangles against each other, and each
 // of them against a half-space (either order); any other convex shape (cylinder, polytope
 // view) gets one point from the penetration query.
-//  - Two cuboids: a separating-axis test over the 15 axes first; a face axis (A's faces win
-//    ties) gives the reference face directly and the incident face is clipped as below; an
-//    edge axis or an empty clip falls back to the general polytope path.
+//  - Two cuboids: box_pair_manifold (box_manifold.hpp), the same code the world's narrow
+//    phase runs W pairs at a time: a separating-axis test over the 15 axes; a face axis (A's
+//    faces win ties) gives the reference face, and the incident face's clip against it is
+//    found as a fixed set of candidates; an edge axis gives the closest points of the two
+//    edges. A reference face without area, or a clip that keeps nothing while the boxes are
+//    within the prediction distance along the axis, takes the general polytope path.
 //  - Polytope pairs (cuboid, hull, triangle): the normal from GJK/EPA (collision/epa.hpp);
 //    when it is within cfg.face_alignment of a face normal, that face is the reference face,
 //    the most anti-parallel face of the other shape is the incident face, the incident face is
@@ -34,6 +37,7 @@
 //    the largest triangle with them, and the one adding the most area to that triangle.
 #pragma once
 
+#include <plume/collision/box_manifold.hpp>
 #include <plume/collision/convex_hull.hpp>
 #include <plume/collision/epa.hpp>
 #include <plume/collision/shapes.hpp>
@@ -308,63 +312,6 @@ std::pair<std::uint32_t, S> best_face(face_set<S> const& fs, GIso3<S> const& pos
   return {best, align};
 }
 
-/// Separating-axis test of two boxes: the largest separation over the 15 axes (3 face axes
-/// of each box, 9 edge-pair axes) and which kind wins. Face axes of A win ties; B's face wins
-/// only when it separates by more than `tolerance`, and an edge pair only when it beats both
-/// by `tolerance`, so the reference face does not flicker between frames.
-template <ScalarReal S>
-struct box_sat {
-  enum kind_t { face_a, face_b, edge } kind = face_a;
-  S separation = -std::numeric_limits<S>::infinity(); ///< along the winning axis (< 0: overlap)
-  GVec3<S> normal{};                                  ///< winning axis, world, from A toward B
-
-  box_sat(GCuboid<S> const& a, GIso3<S> const& pa, GCuboid<S> const& b, GIso3<S> const& pb,
-          S tolerance) noexcept {
-    GMat3<S> const ma = GMat3<S>::from_quat(pa.rotation), mb = GMat3<S>::from_quat(pb.rotation);
-    std::array<GVec3<S>, 3> const ax = {ma.x_axis, ma.y_axis, ma.z_axis};
-    std::array<GVec3<S>, 3> const bx = {mb.x_axis, mb.y_axis, mb.z_axis};
-    std::array<S, 3> const ea = {a.half_extents.x, a.half_extents.y, a.half_extents.z};
-    std::array<S, 3> const eb = {b.half_extents.x, b.half_extents.y, b.half_extents.z};
-    GVec3<S> const d = pb.translation - pa.translation;
-    // |a_i . b_j|, padded so nearly parallel edges do not produce a bogus edge axis.
-    std::array<std::array<S, 3>, 3> r{};
-    for (std::size_t i = 0; i < 3; ++i)
-      for (std::size_t j = 0; j < 3; ++j)
-        r[i][j] = std::abs(ax[i].dot(bx[j])) + S(1e-6);
-    auto const along = [](S t, GVec3<S> const& axis) { return t >= S(0) ? axis : -axis; };
-    S best_a = -std::numeric_limits<S>::infinity(), best_b = best_a, best_e = best_a;
-    GVec3<S> na{}, nb{}, ne{};
-    for (std::size_t i = 0; i < 3; ++i) {
-      S const t = d.dot(ax[i]);
-      S const sep = std::abs(t) - (ea[i] + (eb[0] * r[i][0] + eb[1] * r[i][1]) + eb[2] * r[i][2]);
-      if (sep > best_a) best_a = sep, na = along(t, ax[i]);
-    }
-    for (std::size_t j = 0; j < 3; ++j) {
-      S const t = d.dot(bx[j]);
-      S const sep = std::abs(t) - ((ea[0] * r[0][j] + ea[1] * r[1][j]) + ea[2] * r[2][j] + eb[j]);
-      if (sep > best_b) best_b = sep, nb = along(t, bx[j]);
-    }
-    for (std::size_t i = 0; i < 3; ++i)
-      for (std::size_t j = 0; j < 3; ++j) {
-        GVec3<S> const c = ax[i].cross(bx[j]);
-        S const len = c.length();
-        if (!(len > S(1e-4))) continue; // parallel edges: the face axes cover them
-        GVec3<S> const n = c / len;
-        S const t = d.dot(n);
-        S const ra = (ea[0] * std::abs(ax[0].dot(n)) + ea[1] * std::abs(ax[1].dot(n))) +
-                     ea[2] * std::abs(ax[2].dot(n));
-        S const rb = (eb[0] * std::abs(bx[0].dot(n)) + eb[1] * std::abs(bx[1].dot(n))) +
-                     eb[2] * std::abs(bx[2].dot(n));
-        S const sep = std::abs(t) - (ra + rb);
-        if (sep > best_e) best_e = sep, ne = along(t, n);
-      }
-    kind = best_b > best_a + tolerance ? face_b : face_a;
-    separation = kind == face_b ? best_b : best_a;
-    normal = kind == face_b ? nb : na;
-    if (best_e > separation + tolerance) kind = edge, separation = best_e, normal = ne;
-  }
-};
-
 /// One point from a penetration result.
 template <ScalarReal S>
 void single_point(GPenetrationResult<S> const& p, GManifold<S>& m, ManifoldConfig const& cfg) {
@@ -596,29 +543,16 @@ std::pair<GVec3<S>, GVec3<S>> core_segment(Cap const& cap, GIso3<S> const& pose)
 /// Two boxes by the separating-axis test. True when that decides the manifold: apart by more
 /// than the prediction distance, or a face contact whose clip kept points. False (m empty)
 /// for an edge axis, an empty clip or a non-finite separation: the general path decides.
+/// Two cuboids through box_pair_manifold (box_manifold.hpp) at S; false when it leaves the
+/// pair to the general path.
 template <ScalarReal S>
 bool box_pair(GCuboid<S> const& a, GIso3<S> const& pose_a, GCuboid<S> const& b,
               GIso3<S> const& pose_b, ManifoldConfig const& cfg, GManifold<S>& m) {
-  box_sat<S> const sat(a, pose_a, b, pose_b, S(0.1) * S(cfg.prediction));
-  if (!(sat.separation <= S(cfg.prediction)) && std::isfinite(sat.separation)) {
-    m.normal = sat.normal;
-    return true;
-  }
-  if (sat.kind == box_sat<S>::edge || !std::isfinite(sat.separation)) return false;
-  box_faces<S> const bfa(a.half_extents), bfb(b.half_extents);
-  face_set<S> const fa = bfa.view(), fb = bfb.view();
-  if (sat.kind == box_sat<S>::face_a) {
-    auto const rf = best_face(fa, pose_a, sat.normal).first;
-    auto const inc = best_face(fb, pose_b, -sat.normal).first;
-    clip_faces(fa, pose_a, rf, fb, pose_b, inc, false, S(0), S(0), cfg, m);
-  } else {
-    auto const rf = best_face(fb, pose_b, -sat.normal).first;
-    auto const inc = best_face(fa, pose_a, sat.normal).first;
-    clip_faces(fb, pose_b, rf, fa, pose_a, inc, true, S(0), S(0), cfg, m);
-  }
-  if (m.count > 0) return true;
-  m = GManifold<S>{};
-  return false;
+  GBoxPairManifold<S> const w =
+      box_pair_manifold(a.half_extents, pose_a, b.half_extents, pose_b, S(cfg.prediction));
+  if (w.general) return false;
+  m = w.lane(0);
+  return true;
 }
 
 /// Whether a clipped manifold misses the pair's depth (p): its deepest point shallower than
@@ -859,6 +793,34 @@ void sphere_cuboid(GSphere<S> const& s, GIso3<S> const& ps, GCuboid<S> const& b,
   m.count = 1;
 }
 
+/// The general path of contact_manifold for finite input: GJK/EPA's penetration, then the
+/// face clip, segment clip or single point its kinds allow.
+template <ScalarReal S, class A, class B>
+GManifold<S> penetration_manifold(A const& a, GIso3<S> const& pose_a, B const& b,
+                                  GIso3<S> const& pose_b, ManifoldConfig const& cfg) {
+  using KA = shape_kind<A>;
+  using KB = shape_kind<B>;
+  GManifold<S> m;
+  GPenetrationResult<S> const p = penetration(a, pose_a, b, pose_b, cfg.epa);
+  if (p.status == PenetrationStatus::failed) {
+    m.failed = true;
+    return m;
+  }
+  m.normal = p.normal;
+  if (-p.depth > S(cfg.prediction)) return m;
+  if constexpr (KA::polytope && KB::polytope)
+    polytope_pair(a, pose_a, b, pose_b, p, cfg, m);
+  else if constexpr (KA::capsule && KB::polytope)
+    capsule_on_polytope<true>(a, pose_a, b, pose_b, p, cfg, m);
+  else if constexpr (KA::polytope && KB::capsule)
+    capsule_on_polytope<false>(b, pose_b, a, pose_a, p, cfg, m);
+  else if constexpr (KA::capsule && KB::capsule)
+    capsule_pair(a, pose_a, b, pose_b, p, cfg, m);
+  else
+    single_point(p, m, cfg);
+  return m;
+}
+
 } // namespace detail
 
 /// The contact manifold between shape a (at pose_a) and shape b (at pose_b). See the top of
@@ -906,30 +868,53 @@ GManifold<S> contact_manifold(A const& a, GIso3<S> const& pose_a, B const& b,
       return m;
     } else {
       if constexpr (std::is_same_v<A, GCuboid<S>> && std::is_same_v<B, GCuboid<S>>) {
-        // Boxes: the separating-axis test finds face contacts (nearly all of a box pile) at a
-        // fraction of GJK + EPA's cost; edge contacts and empty clips take the general path.
+        // Boxes: box_pair_manifold's closed forms (a face clip or an edge pair), the general
+        // path for the few it leaves (a face without area, an empty clip).
         if (detail::box_pair(a, pose_a, b, pose_b, cfg, m)) return m;
       }
-      GPenetrationResult<S> const p = penetration(a, pose_a, b, pose_b, cfg.epa);
-      if (p.status == PenetrationStatus::failed) {
-        m.failed = true;
-        return m;
-      }
-      m.normal = p.normal;
-      if (-p.depth > S(cfg.prediction)) return m;
-      if constexpr (KA::polytope && KB::polytope)
-        detail::polytope_pair(a, pose_a, b, pose_b, p, cfg, m);
-      else if constexpr (KA::capsule && KB::polytope)
-        detail::capsule_on_polytope<true>(a, pose_a, b, pose_b, p, cfg, m);
-      else if constexpr (KA::polytope && KB::capsule)
-        detail::capsule_on_polytope<false>(b, pose_b, a, pose_a, p, cfg, m);
-      else if constexpr (KA::capsule && KB::capsule)
-        detail::capsule_pair(a, pose_a, b, pose_b, p, cfg, m);
-      else
-        detail::single_point(p, m, cfg);
-      return m;
+      return detail::penetration_manifold(a, pose_a, b, pose_b, cfg);
     }
   }
+}
+
+namespace detail {
+
+/// What contact_manifold gives a pair of cuboids that box_pair_manifold left to the general
+/// path (a lane with `general` set): the world's narrow phase calls this for such lanes.
+template <ScalarReal S>
+GManifold<S> box_pair_general(GCuboid<S> const& a, GIso3<S> const& pose_a, GCuboid<S> const& b,
+                              GIso3<S> const& pose_b, ManifoldConfig const& cfg) {
+  GManifold<S> m;
+  if (!(pose_a.is_finite() && pose_b.is_finite() && shape_finite<S>(a) && shape_finite<S>(b))) {
+    m.failed = true;
+    return m;
+  }
+  return penetration_manifold(a, pose_a, b, pose_b, cfg);
+}
+
+} // namespace detail
+
+template <Float T>
+GManifold<scalar_t<T>> GBoxPairManifold<T>::lane(std::size_t i) const noexcept {
+  using S = scalar_t<T>;
+  using namespace detail::id_bits;
+  GManifold<S> m;
+  m.normal = plume::lane(normal, i);
+  m.count = int(plume::lane(count, i));
+  bool const ref_b = ((bitmask(ref_is_b) >> i) & 1u) != 0;
+  auto const rf = std::uint32_t(plume::lane(ref_face, i));
+  auto const inf = std::uint32_t(plume::lane(inc_face, i));
+  for (int k = 0; k < m.count; ++k) {
+    auto const c = std::uint32_t(plume::lane(key[std::size_t(k)], i));
+    std::uint32_t const feature = c < 4    ? c
+                                  : c < 20 ? detail::clip_key((c - 4) / 4, (c - 4) % 4)
+                                  : c < 24 ? detail::clip_key(side_edge | (c - 20), c - 20)
+                                           : 0;
+    m.points[std::size_t(k)] = {
+        plume::lane(point_a[std::size_t(k)], i), plume::lane(point_b[std::size_t(k)], i),
+        plume::lane(separation[std::size_t(k)], i), detail::feature_id(ref_b, rf, inf, feature)};
+  }
+  return m;
 }
 
 using ContactPoint = GContactPoint<float>;

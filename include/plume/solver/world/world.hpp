@@ -462,11 +462,17 @@ struct WorldConfig {
 /// continuous: the sweeps of fast bodies (after finalize, not part of it).
 /// sleep: finding islands and putting them to sleep (after continuous, not part of finalize);
 /// the waking of touched islands at the step's start is part of broad_phase.
+/// manifolds: the part of narrow_phase spent making the pairs' manifolds (before the contact
+/// cache matches them). pairs: the pairs the narrow phase tested; box_pairs: those of two cuboids,
+/// which it ran through the manifold kernel in lanes (collision/box_manifold.hpp);
+/// general_box_pairs: those of them the kernel left to the general path.
 struct StepProfile {
   double broad_phase = 0, narrow_phase = 0, prepare = 0, solve = 0, finalize = 0, total = 0;
   double joints = 0;
   double continuous = 0;
   double sleep = 0;
+  double manifolds = 0;
+  std::size_t pairs = 0, box_pairs = 0, general_box_pairs = 0;
 };
 
 class World {
@@ -898,6 +904,7 @@ private:
   /// Bodies whose grown boxes overlap `box` and pass the filter, by index (candidates).
   void candidates(Aabb3 const& box, QueryFilter const& filter,
                   std::vector<std::uint32_t>& out) const;
+  template <class T>
   void collide_pairs();
   void prepare_bodies();
   template <class T>
@@ -1007,6 +1014,8 @@ private:
   std::vector<PairManifold> found_;  ///< this step's manifolds, by pair
   /// The narrow phase's output per chunk of collide_chunk pairs (kept for their capacity).
   std::vector<std::vector<PairManifold>> found_chunks_;
+  /// Per chunk: its cuboid pairs, and how many of them took the general path (StepProfile).
+  std::vector<std::array<std::uint32_t, 2>> chunk_counts_;
   ContactCache cache_;
   std::vector<BodyId> frozen_;
   StepEvents events_, pending_; ///< pending_: destroy_body's ends, for the next step
