@@ -6,7 +6,8 @@
 //   GBoxPairManifold<f32x8> w = box_pair_manifold(ea, pose_a, eb, pose_b, prediction);
 //   GManifold<float> m = w.lane(i);   // or, when w.general is set in lane i, the general path
 //
-// The steps, each the same in every lane (no branch on a lane's values):
+// The steps, each the same in every lane (a batch skips a step only when none of its lanes
+// needs it, and a scalar call skips the same):
 //  1. A separating-axis test over the 15 axes (3 face axes of each box, 9 edge pairs). A's
 //     faces win ties; B's face wins only when it separates by more than 0.1 x prediction, an
 //     edge pair only when it beats both by as much, so the reference face does not flicker.
@@ -17,10 +18,10 @@
 //     candidates in the reference face's plane coordinates instead of a Sutherland-Hodgman
 //     loop with a varying count: the 4 incident vertices inside the reference rectangle, the
 //     16 crossings of the 4 incident edges with the 4 side lines that land on the rectangle,
-//     and the 4 reference corners inside the incident quadrilateral. Points deeper than the
-//     prediction distance stay; more than 4 go through Gregorius' reduction (the deepest, the
-//     farthest from it, the largest triangle, the most area added), which always runs, so a
-//     point that adds no area (one of three collinear points) is dropped.
+//     and the 4 reference corners inside the incident quadrilateral. Points within the
+//     prediction distance stay: up to 4 as they are, in that candidate order; more go through
+//     Gregorius' reduction (the deepest, the farthest from it, the largest triangle, the most
+//     area added).
 //  4. An edge axis: one point, the closest points of the two supporting edges, with the
 //     separation the test found; general when those closest points of the edges' lines fall
 //     off either edge (a vertex or another face is nearer).
@@ -28,7 +29,8 @@
 // its inputs or the winning separation are not finite, its reference face has no area (a zero
 // extent), its face clip keeps no point within the prediction distance while the test says the
 // boxes are that near, or its edge pair's closest points fall off the edges. Which lanes are
-// general depends only on the lane's inputs, so scalar and wide callers agree.
+// general depends only on the lane's inputs, so scalar and wide callers agree. Negative
+// extents give unspecified results, as for every shape (shapes.hpp).
 //
 // Feature ids (GContactPoint::id, manifold.hpp's id_bits): reference face and incident face
 // (0..5: -x, +x, -y, +y, -z, +z), and the key of the point: incident vertex i (0..3, counter
