@@ -1,5 +1,6 @@
 // The world's step (include/plume/solver/world/world.hpp), stage by stage. Compiled once per
 // build, with World::step_with instantiated for float and every f32 width the build enables.
+#include <plume/math/pack.hpp>
 #include <plume/solver/world/world.hpp>
 
 #include <algorithm>
@@ -234,32 +235,23 @@ void World::collide_pairs() {
       }
       chunk_counts_[chunk][0] = boxes;
       for (std::uint32_t g = 0; g < boxes; g += std::uint32_t(L)) {
-        // Lanes by component: half extents, rotations, translations of A, then of B.
-        std::array<std::array<float, L>, 20> in;
+        // The batch's pairs (the last one repeated into unused lanes), packed into lanes.
+        std::array<Vec3, L> ea, eb, ta, tb;
+        std::array<Quat, L> qa, qb;
         for (std::size_t l = 0; l < L; ++l) {
           std::uint64_t const pair =
               pairs_[first + box_pairs[std::min<std::size_t>(g + l, boxes - 1)]];
-          Body const* const two[2] = {&bodies_[body_pair_first(pair)],
-                                      &bodies_[body_pair_second(pair)]};
-          for (std::size_t s = 0; s < 2; ++s) {
-            Vec3 const e = std::get<Cuboid>(two[s]->shape).half_extents;
-            Quat const& q = two[s]->pose.rotation;
-            Vec3 const& t = two[s]->pose.translation;
-            float const v[10] = {e.x, e.y, e.z, q.x, q.y, q.z, q.w, t.x, t.y, t.z};
-            for (std::size_t c = 0; c < 10; ++c)
-              in[10 * s + c][l] = v[c];
-          }
+          Body const& a = bodies_[body_pair_first(pair)];
+          Body const& b = bodies_[body_pair_second(pair)];
+          ea[l] = std::get<Cuboid>(a.shape).half_extents,
+          eb[l] = std::get<Cuboid>(b.shape).half_extents;
+          qa[l] = a.pose.rotation, qb[l] = b.pose.rotation;
+          ta[l] = a.pose.translation, tb[l] = b.pose.translation;
         }
-        auto const col = [&](std::size_t c) { return from_array<W>(in[c]); };
-        auto const extents = [&](std::size_t o) {
-          return GVec3<W>{col(o), col(o + 1), col(o + 2)};
-        };
-        auto const pose = [&](std::size_t o) {
-          return GIso3<W>{GQuat<W>{col(o), col(o + 1), col(o + 2), col(o + 3)},
-                          GVec3<W>{col(o + 4), col(o + 5), col(o + 6)}};
-        };
-        GBoxPairManifold<W> const w = box_pair_manifold(extents(0), pose(3), extents(10), pose(13),
-                                                        config_.manifold.prediction);
+        GBoxPairManifold<W> const w =
+            box_pair_manifold(pack<W>(ea.data()), GIso3<W>{pack<W>(qa.data()), pack<W>(ta.data())},
+                              pack<W>(eb.data()), GIso3<W>{pack<W>(qb.data()), pack<W>(tb.data())},
+                              config_.manifold.prediction);
         std::uint64_t const general = bitmask(w.general);
         for (std::size_t l = 0; l < L && g + l < boxes; ++l) {
           std::uint32_t const k = box_pairs[g + l];
