@@ -26,8 +26,9 @@ struct box_pair_input {
   GIso3<S> pa, pb;
 };
 
-/// A pair of one of seven kinds near contact: resting with a small tilt, any orientations,
-/// edge across edge, far apart, a zero extent, coincident boxes, a NaN.
+/// A pair of one of eight kinds near contact: resting with a small tilt, any orientations,
+/// edge across edge, far apart, a zero extent, coincident boxes, beside each other (nearest
+/// along edges), a NaN.
 template <ScalarReal S>
 box_pair_input<S> make_pair(std::mt19937& g, int kind) {
   std::uniform_real_distribution<double> u(-1, 1), ext(0.05, 1.0);
@@ -71,6 +72,17 @@ box_pair_input<S> make_pair(std::mt19937& g, int kind) {
     p.pa = p.pb = {rot(3.2), v3()};
     p.eb = p.ea;
     break;
+  case 6: { // beside each other along two axes, within reach along the third: nearest edges
+    p.pa = {rot(0.02), v3()};
+    std::size_t const along = std::size_t(ext(g) * 30) % 3;
+    std::array<S, 3> const sum = {p.ea.x + p.eb.x, p.ea.y + p.eb.y, p.ea.z + p.eb.z};
+    std::array<S, 3> off{};
+    for (std::size_t k = 0; k < 3; ++k)
+      off[k] = k == along ? S(0.8 * u(g)) * sum[k]
+                          : (u(g) > 0 ? S(1) : S(-1)) * (sum[k] + S(0.01 * (u(g) + 1)));
+    p.pb = {rot(0.02), p.pa.translation + p.pa.rotation * GVec3<S>{off[0], off[1], off[2]}};
+    break;
+  }
   default: // a NaN somewhere
     p = make_pair<S>(g, 1);
     (u(g) > 0 ? p.pb.translation.x : p.ea.z) = std::numeric_limits<S>::quiet_NaN();
@@ -94,11 +106,11 @@ PLUME_WIDE_TEST_CASE("box pairs: every lane of a wide call equals the scalar cal
   std::mt19937 g(2026);
   S const prediction = S(0.02);
   int failures = 0, batches = 0;
-  std::array<int, 4> seen{}; // apart, face, edge, general
+  std::array<int, 5> seen{}; // apart, face, edge, general, nearest edges
   for (int b = 0; b < 400; ++b) {
     std::array<box_pair_input<S>, L> in;
     for (std::size_t l = 0; l < L; ++l)
-      in[l] = make_pair<S>(g, int((std::size_t(b) * 3 + l) % 7));
+      in[l] = make_pair<S>(g, int((std::size_t(b) * 3 + l) % 8));
     GVec3<T> ea, eb;
     GIso3<T> pa, pb;
     for (std::size_t l = 0; l < L; ++l) {
@@ -121,7 +133,7 @@ PLUME_WIDE_TEST_CASE("box pairs: every lane of a wide call equals the scalar cal
                same_vec(lane(w.point_b[k], l), s.point_b[k]) &&
                same_bits(lane(w.separation[k], l), s.separation[k]) &&
                same_bits(lane(w.key[k], l), s.key[k]);
-      seen[s.general ? 3 : s.count == 0 ? 0 : s.key[0] == S(24) ? 2 : 1]++;
+      seen[s.general ? 3 : s.count == 0 ? 0 : s.key[0] == S(25) ? 4 : s.key[0] == S(24) ? 2 : 1]++;
       if (!same && failures++ < 5)
         FAIL_CHECK("batch " << b << " lane " << l << ": wide count " << lane(w.count, l)
                             << " general " << general << ", scalar count " << s.count << " general "
@@ -129,13 +141,14 @@ PLUME_WIDE_TEST_CASE("box pairs: every lane of a wide call equals the scalar cal
     }
   }
   INFO(batches << " batches; apart " << seen[0] << ", face " << seen[1] << ", edge " << seen[2]
-               << ", general " << seen[3]);
+               << ", general " << seen[3] << ", nearest edges " << seen[4]);
   CHECK(failures == 0);
   // Every path ran in some lane.
   CHECK(seen[0] > 50);
   CHECK(seen[1] > 200);
   CHECK(seen[2] > 20);
   CHECK(seen[3] > 20);
+  CHECK(seen[4] > 5);
 }
 
 namespace {
@@ -270,8 +283,8 @@ TEST_CASE("box pairs: B's corners inside A's face, A's corners inside B's face, 
   }
 }
 
-TEST_CASE("box pairs: edge across edge gives the crossing point; zero extents and empty clips "
-          "take the general path",
+TEST_CASE("box pairs: edge across edge gives the crossing point; zero extents and non-finite "
+          "input take the general path",
           "[collision][manifold][box]") {
   SECTION("crossed edges") {
     Vec3 const ea{1, 0.5f, 0.5f}, eb{0.4f, 0.4f, 1};
@@ -298,23 +311,30 @@ TEST_CASE("box pairs: edge across edge gives the crossing point; zero extents an
       CHECK((r.points[0].point_b - m.points[0].point_a).length() < 1e-5f);
     }
   }
-  SECTION("edges whose lines are nearest off the edges are left to the general path") {
+  SECTION("edges whose lines are nearest off the edges give the edges' checked closest points") {
     // The fuzz target's regress-box-edge-off-edges: an edge axis wins at 0.34 apart (a large
     // prediction distance), but the closest points of the edges' lines lie beyond both edges;
-    // clamped, the points were 0.25 off separation x normal.
+    // clamped, the points were once 0.25 off separation x normal. Now the edges' own closest
+    // points, checked: GJK's distance and normal.
     Vec3 const ea{0x1.0001p+0f, 0x1.0001p-1f, 0x1.40014p+0f};
     Vec3 const eb{0x1.0001p-1f, 0x1.03a504p-1f, 0x1.280128p-1f};
     Iso3 const pa{Quat{-0x1.7c9d68p-2f, -0x1.8da25cp-17f, -0x1.8da25cp-1f, -0x1.046954p-1f},
                   Vec3{-0x1.174f18p+1f, -0x1.62696p-1f, 0x1.fcb3fcp+1f}};
     Iso3 const pb{Quat{0x1.147688p-1f, -0x1.6a7bccp-2f, -0x1.147688p-1f, -0x1.147688p-1f},
                   Vec3{-0x1.633668p-1f, 0x1.9d96ap-1f, 0x1.5e59fep+2f}};
-    CHECK(box_pair_manifold(ea, pa, eb, pb, 0.5f).general);
+    auto const w = box_pair_manifold(ea, pa, eb, pb, 0.5f);
+    CHECK(!w.general);
+    CHECK(w.key[0] == 25.0f);
     ManifoldConfig cfg;
     cfg.prediction = 0.5f;
     Manifold const m = contact_manifold(Cuboid{ea}, pa, Cuboid{eb}, pb, cfg);
     REQUIRE(m.count == 1);
     Vec3 const gap = m.points[0].point_b - m.points[0].point_a;
-    CHECK((gap - m.normal * m.points[0].separation).length() < 1e-4f);
+    CHECK((gap - m.normal * m.points[0].separation).length() < 1e-6f);
+    Manifold const gjk = detail::box_pair_general(Cuboid{ea}, pa, Cuboid{eb}, pb, cfg);
+    REQUIRE(gjk.count == 1);
+    CHECK(m.points[0].separation == Approx(gjk.points[0].separation).margin(2e-5));
+    CHECK(m.normal.dot(gjk.normal) > 0.9999f);
   }
   SECTION("a reference face without area is left to the general path") {
     // A flat rectangle (no z extent) touched at its +x side, a segment.
@@ -363,5 +383,169 @@ TEST_CASE("box pairs: feature ids stay the same while the boxes slide a little",
       ids.push_back(c.id);
     if (k == 0) first = ids;
     CHECK(ids == first);
+  }
+}
+
+TEST_CASE("box pairs: faces that do not overlap along the normal give the nearest edges' points "
+          "and the true distance",
+          "[collision][manifold][box]") {
+  SECTION("diagonal neighbours in a stack") {
+    // Side by side along x and z, 1 cm apart in each, B 0.1 higher: the face test picks A's
+    // +x face at 1 cm, but the boxes are nearest along their vertical edges, sqrt(2) cm apart.
+    Vec3 const e{0.5f, 0.5f, 0.5f};
+    for (int k = 0; k < 4; ++k) {
+      bool const swap = k % 2 == 1;
+      float const dy = k < 2 ? 0.1f : -0.1f; // B's edge beyond A's at one end, then the other
+      Iso3 const pa{}, pb = at({1.01f, dy, 1.01f});
+      auto const w =
+          swap ? box_pair_manifold(e, pb, e, pa, 0.02f) : box_pair_manifold(e, pa, e, pb, 0.02f);
+      REQUIRE(!w.general);
+      REQUIRE(w.count == 1.0f);
+      CHECK(w.key[0] == 25.0f);
+      Manifold const m = w.lane(0);
+      float const s = swap ? -1.0f : 1.0f;
+      CHECK(m.normal.x == Approx(s * std::sqrt(0.5f)));
+      CHECK(m.normal.z == Approx(s * std::sqrt(0.5f)));
+      CHECK(m.normal.y == Approx(0.0f).margin(1e-5));
+      CHECK(m.points[0].separation == Approx(0.01f * std::sqrt(2.0f)).epsilon(1e-4));
+      // The middle of the edges' common part (y from -0.4 to 0.5, or from -0.5 to 0.4).
+      Vec3 const on_a = swap ? m.points[0].point_b : m.points[0].point_a;
+      Vec3 const on_b = swap ? m.points[0].point_a : m.points[0].point_b;
+      CHECK((on_a - Vec3{0.5f, dy / 2, 0.5f}).length() < 1e-6f);
+      CHECK((on_b - Vec3{0.51f, dy / 2, 0.51f}).length() < 1e-6f);
+      // The id of an edge contact between the boxes' y edges (axis 1 of each).
+      CHECK(m.points[0].id == detail::feature_id(false, 6 + 3 * 1 + 1, 0, 0));
+    }
+    // 1.5 cm apart in x and z: the face test says 1.5 cm (within 2 cm), the distance is 2.1
+    // cm: no point, the diagonal normal, and not the general path.
+    auto const w = box_pair_manifold(e, Iso3{}, e, at({1.015f, 0.1f, 1.015f}), 0.02f);
+    CHECK(!w.general);
+    CHECK(w.count == 0.0f);
+    CHECK(w.normal.x == Approx(std::sqrt(0.5f)));
+  }
+  SECTION("pairs whose nearest features are not among the edges are not answered by them") {
+    // Found by random searches with the check turned off: boxes turned a little, where the
+    // nearest edges' points are not the boxes' nearest points (a vertex of one is nearer the
+    // other's side face). The first is refused by both boxes' supports, the second by the
+    // reference box's alone (it is 0.020001 apart, just beyond reach: only the normal tells),
+    // the third by the incident box's alone.
+    struct pair_case {
+      Vec3 ea, eb;
+      Iso3 pa, pb;
+    };
+    pair_case const cases[] = {
+        {{0x1.956ff8p-1f, 0x1.d1b35p-1f, 0x1.ab1b78p-2f},
+         {0x1.c194acp-1f, 0x1.af9774p-1f, 0x1.bffef2p-3f},
+         {Quat{0x1.292d9cp-10f, 0x1.c31222p-13f, -0x1.07862cp-13f, 0x1.ffffeap-1f},
+          Vec3{-0x1.e8d1a4p+3f, -0x1.f29778p+2f, 0x1.270c48p+3f}},
+         {Quat{-0x1.e6d688p-10f, -0x1.0b5668p-8f, 0x1.0fcb2ap-8f, 0x1.fffd8ep-1f},
+          Vec3{-0x1.02ce3ap+4f, -0x1.318d9p+3f, 0x1.128092p+3f}}},
+        {{0x1.1f0086p-2f, 0x1.f6477p-1f, 0x1.50e906p-3f},
+         {0x1.cc614ap-2f, 0x1.a2ea3cp-1f, 0x1.4ccbe4p-1f},
+         {Quat{0x1.3a8a46p-7f, 0x1.43cbcp-7f, -0x1.2628dp-7f, 0x1.ffee48p-1f},
+          Vec3{-0x1.a49906p+0f, -0x1.40c8dep+1f, 0x1.d15f7p+0f}},
+         {Quat{-0x1.e3b32cp-7f, -0x1.5b4d5cp-5f, 0x1.1d24dep-5f, 0x1.ff2c5cp-1f},
+          Vec3{-0x1.329a28p+1f, -0x1.1254d2p+2f, 0x1.091a46p+1f}}},
+        {{0x1.d53616p-3f, 0x1.a9b406p-4f, 0x1.385ec8p-1f},
+         {0x1.915feep-3f, 0x1.43a7c2p-3f, 0x1.b5373cp-1f},
+         {Quat{0x1.dc6bep-6f, -0x1.0e456cp-5f, 0x1.cee516p-6f, 0x1.ff4cdp-1f},
+          Vec3{0x1.56b932p+0f, -0x1.1accccp+0f, -0x1.d5ef1p-2f}},
+         {Quat{-0x1.e7d89ap-5f, -0x1.3780b2p-2f, -0x1.87ed5cp-2f, 0x1.bd9818p-1f},
+          Vec3{0x1.91d43cp+0f, -0x1.1e5af4p+0f, 0x1.2fe068p-1f}}},
+    };
+    ManifoldConfig const cfg;
+    for (pair_case const& c : cases) {
+      Manifold const gjk = detail::box_pair_general(Cuboid{c.ea}, c.pa, Cuboid{c.eb}, c.pb, cfg);
+      Manifold const m = contact_manifold(Cuboid{c.ea}, c.pa, Cuboid{c.eb}, c.pb, cfg);
+      REQUIRE(m.count == gjk.count);
+      if (m.count > 0) CHECK(m.min_separation() == Approx(gjk.min_separation()).margin(2e-5));
+      CHECK(m.normal.dot(gjk.normal) > 0.99999f);
+    }
+  }
+  SECTION("random pairs: the distance and normal of GJK") {
+    // B at a random direction from A, placed so GJK's distance is within 0 .. 3 cm; every pair
+    // the nearest edges answer is checked against the general path in double.
+    std::mt19937 g(77);
+    std::uniform_real_distribution<double> u(-1, 1), ext(0.1, 1.0), gap(0.0005, 0.03);
+    int answered = 0, apart = 0, general = 0;
+    for (int n = 0; n < 3000; ++n) {
+      auto const rnd_rot = [&](double angle) {
+        return GQuat<double>::from_axis_angle(
+            GVec3<double>{u(g), u(g), u(g)}.normalize_or(GVec3<double>::X), angle * u(g));
+      };
+      GVec3<double> const ea{ext(g), ext(g), ext(g)}, eb{ext(g), ext(g), ext(g)};
+      // Mostly axis-aligned pairs (stacks), some turned about y, some turned anyhow.
+      double const angle = n % 3 == 0 ? 0.0 : n % 3 == 1 ? 0.05 : 3.2;
+      GIso3<double> const pa{rnd_rot(angle), {u(g), u(g), u(g)}};
+      // Toward one of A's edges: two axes' components as far as the extents reach, the third
+      // within their overlap.
+      std::size_t const along = std::size_t(n / 3) % 3;
+      std::array<double, 3> lo_dir{}, sum{ea.x + eb.x, ea.y + eb.y, ea.z + eb.z};
+      for (std::size_t k = 0; k < 3; ++k)
+        lo_dir[k] = (k == along ? 0.8 * u(g) : (u(g) > 0 ? 1.0 : -1.0)) * sum[k];
+      GVec3<double> const dir = (pa.rotation * GVec3<double>{lo_dir[0], lo_dir[1], lo_dir[2]})
+                                    .normalize_or(GVec3<double>::X);
+      GIso3<double> pb{rnd_rot(angle), pa.translation};
+      // Walk B out along dir until GJK says it is gap(g) apart.
+      double const want = gap(g);
+      GjkConfig exact;
+      exact.tolerance = 1e-10f;
+      exact.relative_tolerance = 1e-12f;
+      GCuboid<double> const ca{ea}, cb{eb};
+      double lo = 0, hi = 2 * (ea.length() + eb.length());
+      for (int it = 0; it < 60; ++it) {
+        double const mid = 0.5 * (lo + hi);
+        pb.translation = pa.translation + dir * mid;
+        (closest_points(ca, pa, cb, pb, exact).distance < want ? lo : hi) = mid;
+      }
+      pb.translation = pa.translation + dir * hi;
+      GClosestPoints<double> const d = closest_points(ca, pa, cb, pb, exact);
+      auto const check = [&](auto w) {
+        using S = decltype(w.count);
+        if (w.general) {
+          ++general;
+          return;
+        }
+        bool const ours = w.count == S(1) ? w.key[0] == S(25) : w.ref_face >= S(6);
+        if (!ours) return; // a face clip or an edge axis answered
+        Vec3 const nw{float(w.normal.x), float(w.normal.y), float(w.normal.z)};
+        CHECK(nw.dot(Vec3{float(d.normal.x), float(d.normal.y), float(d.normal.z)}) > 0.9999f);
+        if (w.count == S(1)) {
+          ++answered;
+          CHECK(double(w.separation[0]) == Approx(d.distance).margin(2e-6));
+          // The points are on the boxes' surfaces, the separation apart along the normal.
+          auto const on_surface = [](GVec3<double> const& e, GIso3<double> const& pose,
+                                     auto const& pt) {
+            GVec3<double> const l = pose.inverse_transform_point(
+                GVec3<double>{double(pt.x), double(pt.y), double(pt.z)});
+            double const out =
+                std::max({std::abs(double(l.x)) - double(e.x), std::abs(double(l.y)) - double(e.y),
+                          std::abs(double(l.z)) - double(e.z)});
+            return std::abs(out) < 1e-5;
+          };
+          CHECK(on_surface(ea, pa, w.point_a[0]));
+          CHECK(on_surface(eb, pb, w.point_b[0]));
+          CHECK(double((w.point_b[0] - w.point_a[0]).length()) ==
+                Approx(double(w.separation[0])).margin(1e-6));
+        } else {
+          ++apart;
+          CHECK(d.distance > 0.02 - 2e-6);
+        }
+      };
+      auto const f3 = [](GVec3<double> const& v) {
+        return Vec3{float(v.x), float(v.y), float(v.z)};
+      };
+      auto const f_iso = [&](GIso3<double> const& p) {
+        return Iso3{Quat{float(p.rotation.x), float(p.rotation.y), float(p.rotation.z),
+                         float(p.rotation.w)},
+                    f3(p.translation)};
+      };
+      check(box_pair_manifold(f3(ea), f_iso(pa), f3(eb), f_iso(pb), 0.02f));
+      check(box_pair_manifold(ea, pa, eb, pb, 0.02));
+    }
+    INFO(answered << " answered, " << apart << " apart, " << general << " general");
+    CHECK(answered > 1000);
+    CHECK(apart > 100);
+    CHECK(general <= answered / 100);
   }
 }

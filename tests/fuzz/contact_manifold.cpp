@@ -13,7 +13,8 @@
 //    half-space): no points only when s > prediction (within the tolerance); with points,
 //    the deepest separation is s (single-point pairs and half-spaces, where the deepest point
 //    is kept), or within the reference face's tilt of it (clipped pairs);
-//  - two cuboids: box_pair_manifold's lanes equal its scalar calls (check_lanes).
+//  - two cuboids: box_pair_manifold's lanes equal its scalar calls (check_lanes), and its
+//    nearest-edges point has the pair's distance as its separation.
 #include "fuzz_input.hpp"
 #include "fuzz_shapes.hpp"
 
@@ -191,6 +192,12 @@ void check(SA const& sa, Operand const& a, Iso3 const& pa, SB const& sb, Operand
       double const slack = clipped ? tol + 0.05 * (size_a + size_b) : tol;
       PLUME_FUZZ_CHECK(deepest <= s + slack);
       if (!clipped) PLUME_FUZZ_CHECK(deepest >= s - slack);
+      if constexpr (std::is_same_v<SA, Cuboid> && std::is_same_v<SB, Cuboid>) {
+        // The cuboid kernel's nearest edges (key 25) claim the boxes' distance itself.
+        auto const w = box_pair_manifold(sa.half_extents, pa, sb.half_extents, pb, cfg.prediction);
+        if (!w.general && w.count == 1.0f && w.key[0] == 25.0f)
+          PLUME_FUZZ_CHECK(std::abs(deepest - s) <= tol);
+      }
     }
   }
 }
