@@ -23,19 +23,20 @@
 //     Gregorius' reduction (the deepest, the farthest from it, the largest triangle, the most
 //     area added). When the clip keeps nothing (seen along the normal the faces do not
 //     overlap: diagonal neighbours in a stack), the nearest of the closest points of the 16
-//     pairs of a reference edge and an incident edge, checked to be the boxes' closest points
-//     (box_edge_closest): one point within the prediction distance, the true distance as its
-//     separation and the line joining the points as the normal.
+//     pairs of a reference edge and an incident edge, kept when they give the boxes' distance
+//     within 1% of the prediction distance (box_nearest_points): one point, the line joining
+//     the points (or, for touching boxes, the winning axis) as the normal.
 //  4. An edge axis: one point, the closest points of the two supporting edges, with the
 //     separation the test found. When those closest points of the edges' lines fall off
 //     either edge (nearly parallel edges), the clamped closest points of the two edges,
-//     checked as in 3 (one point, the true distance, the line joining the points).
+//     checked as in 3.
 // A lane is `general` (not computed here; contact_manifold takes GJK/EPA's path for it) when
 // its inputs or the winning separation are not finite, its reference face has no area (a zero
 // extent), or its face clip keeps no point, or its edge pair's lines meet off the edges, and
 // the nearest edges' points fail the check (a vertex or another face is nearer, or the boxes
-// overlap). Which lanes are general depends only on the lane's inputs, so scalar and wide
-// callers agree. Negative extents give unspecified results, as for every shape (shapes.hpp).
+// overlap by more than it allows). Which lanes are general depends only on the lane's inputs, so
+// scalar and wide callers agree. Negative extents give unspecified results, as for every shape
+// (shapes.hpp).
 //
 // Feature ids (GContactPoint::id, manifold.hpp's id_bits): reference face and incident face
 // (0..5: -x, +x, -y, +y, -z, +z), and the key of the point: incident vertex i (0..3, counter
@@ -153,28 +154,22 @@ void box_nearest_points(GBoxPairManifold<T>& out, mask_t<T> todo, GVec3<T> const
                         GVec3<T> const& pi, T dist2, T axis_r, T axis_i,
                         std::array<GVec3<T>, 3> const& rx, std::array<GVec3<T>, 3> const& ix,
                         GVec3<T> const& er, GVec3<T> const& ei, GVec3<T> const& tr,
-                        GVec3<T> const& d, T pred) noexcept;
+                        GVec3<T> const& d, GVec3<T> const& sat_n, T sat_sep, T pred) noexcept;
 
 /// box_face_contact's lanes (todo) whose clip kept no point although the separating-axis test
 /// put the boxes within the prediction distance: seen along the normal the faces do not
-/// overlap, and the nearest features are edges (the vertical edges of diagonal neighbours in
-/// a stack). In coordinates centred on R (tr, its centre; d, I's centre): the nearest of the
-/// closest points of the 16 pairs of a reference edge (rc[s] to rc[s + 1]) and an incident
-/// edge (iv[i] to iv[i + 1]) are the boxes' closest points when the plane through them,
-/// normal to the line joining them, separates the boxes: each box's support along the line
-/// within tol of its point, tol = 4 eps x size x (1 + size / distance), size = the six
-/// extents plus |d|'s largest component (the line's direction is rounded by eps x size /
-/// distance, which tilts a support by size times that; on 20,000 random pairs the true
-/// closest points stayed below tol / 8 but for one, which goes general, and wrong ones were
-/// beyond 9 tol). The separation is then within 2 tol of the distance. Those lanes get one point (key 25, ids as an edge contact's)
-/// when within the prediction distance, the distance as its separation, the line as the
-/// normal; the others are general.
+/// overlap (or every clipped point is beyond the prediction distance), and the nearest
+/// features are edges (the vertical edges of diagonal neighbours in a stack). In coordinates
+/// centred on R (tr, its centre; d, I's centre), the nearest of the closest points of the 16
+/// pairs of a reference edge (rc[s] to rc[s + 1]) and an incident edge (iv[i] to iv[i + 1])
+/// go to box_nearest_points with the test's axis (sat_n, from R toward I) and separation.
 template <class T>
 void box_edge_closest(GBoxPairManifold<T>& out, mask_t<T> todo, GVec3<T> const (&rc)[4],
                       GVec3<T> const (&iv)[4], std::array<T, 2> const& ref_axis,
                       std::array<T, 2> const& inc_axis, std::array<GVec3<T>, 3> const& rx,
                       std::array<GVec3<T>, 3> const& ix, GVec3<T> const& er, GVec3<T> const& ei,
-                      GVec3<T> const& tr, GVec3<T> const& d, T pred) noexcept {
+                      GVec3<T> const& tr, GVec3<T> const& d, GVec3<T> const& sat_n, T sat_sep,
+                      T pred) noexcept {
   using S = scalar_t<T>;
   using V = GVec3<T>;
   using M = mask_t<T>;
@@ -202,47 +197,69 @@ void box_edge_closest(GBoxPairManifold<T>& out, mask_t<T> todo, GVec3<T> const (
       axis_r = plume::select(b, ref_axis[s % 2], axis_r);
       axis_i = plume::select(b, inc_axis[i % 2], axis_i);
     }
-  box_nearest_points(out, todo, pr, pi, best, axis_r, axis_i, rx, ix, er, ei, tr, d, pred);
+  box_nearest_points(out, todo, pr, pi, best, axis_r, axis_i, rx, ix, er, ei, tr, d, sat_n, sat_sep,
+                     pred);
 }
 
 /// The lanes of todo whose boxes R (centre tr, axes rx, half extents er) and I (centre tr + d)
 /// are nearest, the caller believes, at pr and pi (relative to tr; dist2 apart) on R's edge
-/// along axis_r and I's along axis_i: checked and answered as box_edge_closest says.
+/// along axis_r and I's along axis_i. The points' distance is an upper bound on the boxes'
+/// distance; the gap between the boxes' supports along any unit axis is a lower bound. The
+/// lane is answered when the bounds meet within slack = 1% of the prediction distance + 16 eps
+/// x size (size = the six extents plus |d|'s largest component), first along the line
+/// joining the points (normal: that line; separation: their distance), else along the
+/// separating-axis test's axis sat_n, whose separation sat_sep is its gap (normal: sat_n;
+/// separation: the points' offset along it; the point on R moved to pi - sat_n x separation,
+/// as a face contact's point on its reference face). Two points closer than their rounding
+/// allows give a line that is mostly noise (touching boxes: the settled pyramid's diagonal
+/// neighbours, micrometres apart); the axis is exact. Either way the separation is within
+/// slack of the boxes' distance (or of minus their overlap); one point (key 25, ids as an
+/// edge contact's) when it is within the prediction distance. Lanes neither bound certifies
+/// (a vertex or another face is nearer, or the boxes overlap more than slack) are general.
 template <class T>
 void box_nearest_points(GBoxPairManifold<T>& out, mask_t<T> todo, GVec3<T> const& pr,
                         GVec3<T> const& pi, T dist2, T axis_r, T axis_i,
                         std::array<GVec3<T>, 3> const& rx, std::array<GVec3<T>, 3> const& ix,
                         GVec3<T> const& er, GVec3<T> const& ei, GVec3<T> const& tr,
-                        GVec3<T> const& d, T pred) noexcept {
+                        GVec3<T> const& d, GVec3<T> const& sat_n, T sat_sep, T pred) noexcept {
   using S = scalar_t<T>;
   using V = GVec3<T>;
   using M = mask_t<T>;
   T const z = zero<T>(), o = one<T>();
   M const rb = out.ref_is_b;
   T const dist = plume::sqrt(dist2);
-  M const apart = dist > z;
+  M const apart = (dist > z) & (dist < infinity<T>());
   V const n = (pi - pr) / plume::select(apart, dist, o); // from R toward I
+  // How far each box reaches past its point along n: R beyond pr, I before pi. The gap
+  // along n, dist - (hr - hi), is a lower bound on the boxes' distance, and dist an upper one.
   T const hr = ((er.x * plume::abs(rx[0].dot(n)) + er.y * plume::abs(rx[1].dot(n))) +
                 er.z * plume::abs(rx[2].dot(n))) -
                pr.dot(n);
   T const hi =
       (d - pi).dot(n) - ((ei.x * plume::abs(ix[0].dot(n)) + ei.y * plume::abs(ix[1].dot(n))) +
                          ei.z * plume::abs(ix[2].dot(n)));
-  // The rounding: of the points, eps x size; of the direction between them, eps x size /
-  // dist, which tilts the supports by up to size times that.
   T const size =
       (((er.x + er.y) + er.z) + ((ei.x + ei.y) + ei.z)) +
       plume::max_select(plume::max_select(plume::abs(d.x), plume::abs(d.y)), plume::abs(d.z));
-  T const tol = splat<T>(S(4) * epsilon<S>()) * size * (o + size / plume::select(apart, dist, o));
-  M const ok = todo & apart & (hr <= tol) & (hi >= -tol); // false for NaN
+  T const slack = splat<T>(S(16) * epsilon<S>()) * size + splat<T>(S(0.01)) * pred;
+  // Certified by the line joining the points, or else by the separating-axis test's axis
+  // (its separation is a lower bound too): the direction between two points closer than the
+  // rounding of their coordinates allows is noise, the axis is not.
+  M const by_points = apart & (hr - hi <= slack); // false for NaN
+  M const by_axis = !by_points & (dist < infinity<T>()) & (dist - sat_sep <= slack);
+  M const ok = todo & (by_points | by_axis);
+  V const n_out = V::select(by_points, n, sat_n);
+  T const sep = plume::select(by_points, dist, (pi - pr).dot(sat_n));
   out.general = out.general | (todo & !ok);
-  M const hit = ok & (dist <= pred);
+  M const hit = ok & (sep <= pred);
   T const ia = plume::select(rb, axis_i, axis_r), jb = plume::select(rb, axis_r, axis_i);
-  out.normal = V::select(ok, V::select(rb, -n, n), out.normal);
-  V const pr_w = tr + pr, pi_w = tr + pi;
+  out.normal = V::select(ok, V::select(rb, -n_out, n_out), out.normal);
+  // On the axis, the point on R is I's point moved back along the axis (as a face contact's
+  // point on its reference face), so point_b - point_a is separation x normal.
+  V const pr_w = tr + V::select(by_points, pr, pi - sat_n * sep), pi_w = tr + pi;
   out.point_a[0] = V::select(hit, V::select(rb, pi_w, pr_w), out.point_a[0]);
   out.point_b[0] = V::select(hit, V::select(rb, pr_w, pi_w), out.point_b[0]);
-  out.separation[0] = plume::select(hit, dist, out.separation[0]);
+  out.separation[0] = plume::select(hit, sep, out.separation[0]);
   out.key[0] = plume::select(hit, splat<T>(S(25)), out.key[0]);
   out.ref_face = plume::select(ok, splat<T>(S(6)) + splat<T>(S(3)) * ia + jb, out.ref_face);
   out.inc_face = plume::select(ok, z, out.inc_face);
@@ -256,7 +273,8 @@ void box_nearest_points(GBoxPairManifold<T>& out, mask_t<T> todo, GVec3<T> const
 template <class T>
 void box_face_contact(GBoxPairManifold<T>& out, mask_t<T> todo, std::array<GVec3<T>, 3> const& ax,
                       std::array<GVec3<T>, 3> const& bx, GVec3<T> const& ea, GVec3<T> const& eb,
-                      GIso3<T> const& pose_a, GIso3<T> const& pose_b, T k, T pred) noexcept {
+                      GIso3<T> const& pose_a, GIso3<T> const& pose_b, T k, T separation,
+                      T pred) noexcept {
   using S = scalar_t<T>;
   using V = GVec3<T>;
   using M = mask_t<T>;
@@ -450,7 +468,7 @@ void box_face_contact(GBoxPairManifold<T>& out, mask_t<T> todo, std::array<GVec3
     auto const next = [&](T a) { return plume::select(a == splat<T>(S(2)), z, a + o); };
     T const ku = next(k), ji_p = next(ji);
     box_edge_closest(out, empty, rc, iv_r, {ku, next(ku)}, {ji_p, next(ji_p)}, rx, ix, er, ei, tr,
-                     d, pred);
+                     d, rn, separation, pred);
   }
 }
 
@@ -486,14 +504,14 @@ void box_edge_contact(GBoxPairManifold<T>& out, mask_t<T> todo, std::array<GVec3
   T const den_safe = plume::select(den > z, den, o);
   T const s_a = (bb * ee - dd) / den_safe;
   T const s_b = (ee - bb * dd) / den_safe;
-  // The lines' closest points off either edge (nearly parallel edges): the edges' own closest
-  // points, checked as box_edge_closest checks its own.
-  M const off = todo & !((plume::abs(s_a) <= la) & (plume::abs(s_b) <= lb));
+  // The lines' closest points off either edge, or no closest points (edges parallel within the
+  // rounding): the edges' own closest points, checked as box_edge_closest checks its own.
+  M const off = todo & !((den > z) & (plume::abs(s_a) <= la) & (plume::abs(s_b) <= lb));
   if (plume::any(off)) {
     V cp, cq;
     segment_closest(ca - ua * la, ua * (la + la), cb - ub * lb, ub * (lb + lb), cp, cq);
     box_nearest_points(out, off, cp, cq, (cq - cp).length_squared(), ie, je, ax, bx, ea, eb,
-                       pose_a.translation, d, pred);
+                       pose_a.translation, d, n, separation, pred);
   }
   todo = todo & !off;
   out.point_a[0] = V::select(todo, pose_a.translation + (ca + ua * s_a), out.point_a[0]);
@@ -590,7 +608,7 @@ GBoxPairManifold<T> box_pair_manifold(GVec3<T> const& ea, GIso3<T> const& pose_a
   M const face_try = near & finite & !edge;
   if (plume::any(face_try))
     detail::box_face_contact(out, face_try, ax, bx, ea, eb, pose_a, pose_b,
-                             plume::select(out.ref_is_b, jb, ia), pred);
+                             plume::select(out.ref_is_b, jb, ia), separation, pred);
   // 4. Edge contact: the edges of A along axis ie and of B along je that support the axis.
   M const edge_hit = near & finite & edge;
   if (plume::any(edge_hit))
