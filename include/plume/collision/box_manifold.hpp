@@ -246,7 +246,7 @@ void box_nearest_points(GBoxPairManifold<T>& out, mask_t<T> todo, GVec3<T> const
   // (its separation is a lower bound too): the direction between two points closer than the
   // rounding of their coordinates allows is noise, the axis is not.
   M const by_points = apart & (hr - hi <= slack); // false for NaN
-  M const by_axis = !by_points & (dist < infinity<T>()) & (dist - sat_sep <= slack);
+  M const by_axis = (dist < infinity<T>()) & (dist - sat_sep <= slack) & !by_points;
   M const ok = todo & (by_points | by_axis);
   V const n_out = V::select(by_points, n, sat_n);
   T const sep = plume::select(by_points, dist, (pi - pr).dot(sat_n));
