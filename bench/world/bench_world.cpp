@@ -2,7 +2,9 @@
 // solver stages alone (prepare + substeps + restitution: the part written over T), at every
 // f32 width of the build. Names: world_step/<scene>/f32/plume/x<W>, world_solver/...
 // narrow_phase/<scene>/f32/plume/x<W>: the narrow phase's manifolds alone (items = pairs
-// tested), the cuboid pairs W at a time through the manifold kernel (x1: one at a time).
+// tested), the cuboid pairs W at a time through the manifold kernel (x1: one at a time), with
+// manifold reuse off; narrow_phase/<scene>_reuse/...: the same with the world's default reuse
+// (WorldConfig::reuse_distance), where the settled pairs keep their manifolds.
 //
 // Static-heavy scenes (spatial_static/<statics>/<broad phase>, items = world steps): a grid
 // of N static boxes (1 m apart) with 100 dynamic spheres resting on the 10 x 10 boxes at its
@@ -64,18 +66,21 @@ void stage_counters(benchmark::State& st, StepProfile const& p) {
 }
 
 /// The scene with `layers` layers, settled for 60 steps (built once per binary).
-World const& settled_pyramid(int layers) {
-  static std::map<int, World> cache;
-  auto it = cache.find(layers);
+/// The pyramid of `layers` layers settled for 60 steps; reuse false: manifold reuse off
+/// (WorldConfig::reuse_distance 0), every pair computed every step.
+World const& settled_pyramid(int layers, bool reuse = true) {
+  static std::map<std::pair<int, bool>, World> cache;
+  auto it = cache.find({layers, reuse});
   if (it == cache.end()) {
     WorldConfig cfg;
     cfg.sleep = false; // the whole step, every step: the solver's measure
+    if (!reuse) cfg.reuse_distance = 0.0f;
     World w(cfg);
     add_ground(w);
     add_box_pyramid(w, layers);
     for (int s = 0; s < 60; ++s)
       w.step(1.0f / 60.0f);
-    it = cache.emplace(layers, std::move(w)).first;
+    it = cache.emplace(std::pair{layers, reuse}, std::move(w)).first;
   }
   return it->second;
 }
@@ -103,25 +108,29 @@ void register_width(int layers) {
       ->UseManualTime()
       ->Unit(benchmark::kMillisecond);
   // The narrow phase's manifolds alone (StepProfile::manifolds as the manual time), items =
-  // the pairs it tested: the cuboid pairs W at a time through the manifold kernel.
-  benchmark::RegisterBenchmark(("narrow_phase/" + scene + w).c_str(),
-                               [layers](benchmark::State& st) {
-                                 World world = settled_pyramid(layers);
-                                 std::size_t pairs = 0;
-                                 for (auto _ : st) {
-                                   world.step_with<T>(1.0f / 60.0f);
+  // the pairs it tested: the cuboid pairs W at a time through the manifold kernel, every pair
+  // every step (manifold reuse off); <scene>_reuse: the world's default, where the settled
+  // pairs keep their manifolds.
+  for (bool reuse : {false, true})
+    benchmark::RegisterBenchmark(("narrow_phase/" + scene + (reuse ? "_reuse" : "") + w).c_str(),
+                                 [layers, reuse](benchmark::State& st) {
+                                   World world = settled_pyramid(layers, reuse);
+                                   std::size_t pairs = 0;
+                                   for (auto _ : st) {
+                                     world.step_with<T>(1.0f / 60.0f);
+                                     StepProfile const& p = world.last_profile();
+                                     st.SetIterationTime(p.manifolds);
+                                     pairs += p.pairs;
+                                   }
+                                   st.SetItemsProcessed(std::int64_t(pairs));
                                    StepProfile const& p = world.last_profile();
-                                   st.SetIterationTime(p.manifolds);
-                                   pairs += p.pairs;
-                                 }
-                                 st.SetItemsProcessed(std::int64_t(pairs));
-                                 StepProfile const& p = world.last_profile();
-                                 st.counters["pairs"] = double(p.pairs);
-                                 st.counters["box_pairs"] = double(p.box_pairs);
-                                 st.counters["general"] = double(p.general_box_pairs);
-                               })
-      ->UseManualTime()
-      ->Unit(benchmark::kMicrosecond);
+                                   st.counters["pairs"] = double(p.pairs);
+                                   st.counters["box_pairs"] = double(p.box_pairs);
+                                   st.counters["general"] = double(p.general_box_pairs);
+                                   st.counters["reused"] = double(p.reused_pairs);
+                                 })
+        ->UseManualTime()
+        ->Unit(benchmark::kMicrosecond);
 }
 
 /// world_step/<scene>/f32/plume/x<W>/t<threads>: the whole step on a ThreadPool of `threads`

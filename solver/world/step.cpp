@@ -52,6 +52,71 @@ auto block_runner(TaskSystem* tasks) {
   };
 }
 
+/// Manifold reuse (WorldConfig::reuse_distance): B's rotation and origin seen from A, and A's
+/// origin seen from B.
+struct RelativePose {
+  Quat rotation;
+  Vec3 b_from_a, a_from_b;
+};
+
+RelativePose relative_pose(Iso3 const& pa, Iso3 const& pb) {
+  Quat const inv_a = pa.rotation.conjugate();
+  Vec3 const d = pb.translation - pa.translation;
+  return {inv_a * pb.rotation, inv_a * d, pb.rotation.conjugate() * (-d)};
+}
+
+/// Whether the pair may keep manifolds computed at `before`: the change of the bodies'
+/// relative rotation is at most max_chord (as 2 sin(angle/2), twice the length of its vector
+/// part), and no point of the smaller shape moved more than max_drift relative to the other
+/// body (bounded by the origin's displacement plus 2 sin(angle/2) x reach). False for NaN.
+bool may_reuse(Quat const& rotation_before, Vec3 const& b_before, Vec3 const& a_before,
+               RelativePose const& now, float reach_a, float reach_b, float max_drift,
+               float max_chord) {
+  Quat const d = rotation_before.conjugate() * now.rotation;
+  float const chord = 2.0f * std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+  if (!(chord <= max_chord)) return false;
+  // chord 0 (no turn) with an infinite reach (a half-space) is no lever at all, not NaN.
+  float const lever_a = chord > 0.0f ? chord * reach_a : 0.0f;
+  float const lever_b = chord > 0.0f ? chord * reach_b : 0.0f;
+  float const via_b = (now.b_from_a - b_before).length() + lever_b;
+  float const via_a = (now.a_from_b - a_before).length() + lever_a;
+  return std::min(via_a, via_b) <= max_drift;
+}
+
+/// A world manifold in the bodies' frames: the normal and point_a in A's, point_b in B's.
+Manifold to_local(Manifold m, Iso3 const& pa, Iso3 const& pb) {
+  Mat3 const ra = Mat3::from_quat(pa.rotation), rb = Mat3::from_quat(pb.rotation);
+  m.normal = ra.mul_transpose_vec3(m.normal);
+  for (int k = 0; k < m.count; ++k) {
+    ContactPoint& c = m.points[std::size_t(k)];
+    c.point_a = ra.mul_transpose_vec3(c.point_a - pa.translation);
+    c.point_b = rb.mul_transpose_vec3(c.point_b - pb.translation);
+  }
+  return m;
+}
+
+/// A manifold kept by to_local moved with its bodies to poses pa and pb, into m: the normal
+/// with A, each point_b with B, its separation measured again from A's moved point along the
+/// normal, and point_a put back opposite point_b (point_b - separation x normal). A's point is
+/// not kept where it was on A: a body sliding over the other would carry its points away
+/// from A's, and the pair would push at an angle to the line through them (a ball sliding
+/// down a frictionless ramp would start to spin).
+void to_world(Manifold const& local, Iso3 const& pa, Iso3 const& pb, Manifold& m) {
+  Mat3 const ra = Mat3::from_quat(pa.rotation), rb = Mat3::from_quat(pb.rotation);
+  m.normal = ra * local.normal;
+  m.count = local.count;
+  m.failed = false;
+  for (int k = 0; k < local.count; ++k) {
+    ContactPoint const& l = local.points[std::size_t(k)];
+    ContactPoint& c = m.points[std::size_t(k)];
+    Vec3 const on_a = ra * l.point_a + pa.translation;
+    c.point_b = rb * l.point_b + pb.translation;
+    c.separation = (c.point_b - on_a).dot(m.normal);
+    c.point_a = c.point_b - m.normal * c.separation;
+    c.id = l.id;
+  }
+}
+
 } // namespace
 
 int detail::collide(BodyShape const& a, Iso3 const& pa, BodyShape const& b, Iso3 const& pb,
@@ -206,7 +271,10 @@ void World::update_events() {
 /// the last batch padded with its last pair), the lanes it leaves to the general path through
 /// detail::box_pair_general, every other pair through detail::collide. The kernel's lanes
 /// equal its scalar calls, and contact_manifold's cuboid pair is that scalar call, so every
-/// build and every width gives the same manifolds.
+/// build and every width gives the same manifolds. First, a pair that may keep the manifolds
+/// of an earlier step (WorldConfig::reuse_distance, may_reuse) takes them moved with its
+/// bodies (to_world) and skips the rest; the decision reads only poses, so every width and
+/// thread count reuses the same pairs.
 template <class W>
 void World::collide_pairs() {
   constexpr std::size_t L = lanes_v<W>;
@@ -215,20 +283,50 @@ void World::collide_pairs() {
   std::uint32_t const chunks = (pair_count + collide_chunk - 1) / collide_chunk;
   if (found_chunks_.size() < chunks) found_chunks_.resize(chunks);
   if (chunk_counts_.size() < chunks) chunk_counts_.resize(chunks);
+  if (reuse_chunks_.size() < chunks) reuse_chunks_.resize(chunks);
+  if (reuse_manifold_chunks_.size() < chunks) reuse_manifold_chunks_.resize(chunks);
+  // NaN, 0 or less: off (may_reuse is then false for every pair).
+  float const reuse_limit = std::min(config_.reuse_distance, 0.5f * config_.manifold.prediction);
+  float const reuse_chord = 2.0f * std::sin(0.5f * std::min(config_.reuse_angle, 1.0f));
   parallel_for(config_.tasks, chunks, min_chunks, [&](std::uint32_t begin, std::uint32_t end) {
     std::array<Manifold, max_mesh_manifolds> ms;
     std::array<Manifold, collide_chunk> box; // a cuboid pair's manifold, by place in the chunk
     std::array<bool, collide_chunk> boxed;   // ... when the kernel computed it
     std::array<std::uint32_t, collide_chunk> box_pairs;
+    std::array<std::uint32_t, collide_chunk> kept; // a reused pair's entry in reuse_, or ~0
+    std::array<RelativePose, collide_chunk> rel;
     for (std::uint32_t chunk = begin; chunk < end; ++chunk) {
       std::vector<PairManifold>& out = found_chunks_[chunk];
+      std::vector<ReuseEntry>& entries = reuse_chunks_[chunk];
+      std::vector<Manifold>& locals = reuse_manifold_chunks_[chunk];
       out.clear();
+      entries.clear();
+      locals.clear();
       std::uint32_t const first = chunk * collide_chunk;
       std::uint32_t const last = std::min(pair_count, first + collide_chunk);
       std::uint32_t boxes = 0;
       chunk_counts_[chunk] = {};
+      // Both lists are sorted by pair: one walk finds each pair's entry of the last step.
+      auto entry =
+          std::lower_bound(reuse_.begin(), reuse_.end(), first < last ? pairs_[first] : 0,
+                           [](ReuseEntry const& e, std::uint64_t k) { return e.pair < k; });
+      for (std::uint32_t p = first; p < last; ++p) {
+        std::uint64_t const pair = pairs_[p];
+        Body const& a = bodies_[body_pair_first(pair)];
+        Body const& b = bodies_[body_pair_second(pair)];
+        rel[p - first] = relative_pose(a.pose, b.pose);
+        kept[p - first] = ~std::uint32_t(0);
+        while (entry != reuse_.end() && entry->pair < pair)
+          ++entry;
+        if (entry != reuse_.end() && entry->pair == pair && entry->generation_a == a.generation &&
+            entry->generation_b == b.generation &&
+            may_reuse(entry->rotation, entry->b_from_a, entry->a_from_b, rel[p - first], a.reach,
+                      b.reach, reuse_limit, reuse_chord))
+          kept[p - first] = std::uint32_t(entry - reuse_.begin());
+      }
       for (std::uint32_t p = first; p < last; ++p) {
         boxed[p - first] = false;
+        if (kept[p - first] != ~std::uint32_t(0)) continue;
         if (std::holds_alternative<Cuboid>(bodies_[body_pair_first(pairs_[p])].shape) &&
             std::holds_alternative<Cuboid>(bodies_[body_pair_second(pairs_[p])].shape))
           box_pairs[boxes++] = p - first;
@@ -271,25 +369,75 @@ void World::collide_pairs() {
         std::uint64_t const pair = pairs_[p];
         Body const& a = bodies_[body_pair_first(pair)];
         Body const& b = bodies_[body_pair_second(pair)];
+        float const friction = std::sqrt(a.friction * b.friction);
+        float const restitution = std::max(a.restitution, b.restitution);
+        if (std::uint32_t const e = kept[p - first]; e != ~std::uint32_t(0)) {
+          // The manifolds as last computed, moved with the bodies; the entry stays as it was,
+          // so the drift is always measured from the poses they were computed at.
+          ++chunk_counts_[chunk][2];
+          ReuseEntry const& kept_entry = reuse_[e];
+          for (std::uint32_t k = 0; k < kept_entry.count; ++k) {
+            Manifold const& local = reuse_pool_[kept_entry.first + k];
+            if (local.empty()) continue;
+            PairManifold& m = out.emplace_back();
+            m.pair = pair;
+            to_world(local, a.pose, b.pose, m.manifold);
+            m.friction = friction, m.restitution = restitution;
+            m.dynamic_a = a.is_dynamic(), m.dynamic_b = b.is_dynamic();
+          }
+          entries.push_back(kept_entry);
+          continue;
+        }
         Manifold const* found = &box[p - first];
         int n = found->empty() && !found->failed ? 0 : 1; // as detail::collide counts
         if (!boxed[p - first]) {
           n = detail::collide(a.shape, a.pose, b.shape, b.pose, config_.manifold, ms);
           found = ms.data();
         }
-        for (int k = 0; k < n; ++k)
-          out.push_back({pair, found[k], std::sqrt(a.friction * b.friction),
-                         std::max(a.restitution, b.restitution), a.is_dynamic(), b.is_dynamic()});
+        bool failed = false;
+        for (int k = 0; k < n; ++k) {
+          out.push_back({pair, found[k], friction, restitution, a.is_dynamic(), b.is_dynamic()});
+          failed = failed || found[k].failed;
+        }
+        if (reuse_limit > 0.0f && !failed) { // kept for the next steps (a failure never is)
+          RelativePose const& r = rel[p - first];
+          entries.push_back({pair, a.generation, b.generation, r.rotation, r.b_from_a, r.a_from_b,
+                             std::uint32_t(locals.size()), std::uint32_t(n), true});
+          for (int k = 0; k < n; ++k)
+            locals.push_back(to_local(found[k], a.pose, b.pose));
+        }
       }
     }
   });
   found_.clear();
+  reuse_next_.clear();
   profile_.pairs = pair_count;
-  profile_.box_pairs = profile_.general_box_pairs = 0;
+  profile_.box_pairs = profile_.general_box_pairs = profile_.reused_pairs = 0;
+  std::size_t live = 0; // manifolds the entries name
   for (std::uint32_t chunk = 0; chunk < chunks; ++chunk) {
     found_.insert(found_.end(), found_chunks_[chunk].begin(), found_chunks_[chunk].end());
     profile_.box_pairs += chunk_counts_[chunk][0];
     profile_.general_box_pairs += chunk_counts_[chunk][1];
+    profile_.reused_pairs += chunk_counts_[chunk][2];
+    auto const offset = std::uint32_t(reuse_pool_.size());
+    for (ReuseEntry e : reuse_chunks_[chunk]) {
+      if (e.fresh) e.first += offset, e.fresh = false;
+      live += e.count;
+      reuse_next_.push_back(e);
+    }
+    reuse_pool_.insert(reuse_pool_.end(), reuse_manifold_chunks_[chunk].begin(),
+                       reuse_manifold_chunks_[chunk].end());
+  }
+  reuse_.swap(reuse_next_);
+  if (reuse_pool_.size() > 2 * live + 1024) { // mostly unnamed: keep the named ones, in order
+    reuse_pool_spare_.clear();
+    for (ReuseEntry& e : reuse_) {
+      auto const at = std::uint32_t(reuse_pool_spare_.size());
+      reuse_pool_spare_.insert(reuse_pool_spare_.end(), reuse_pool_.begin() + e.first,
+                               reuse_pool_.begin() + e.first + e.count);
+      e.first = at;
+    }
+    reuse_pool_.swap(reuse_pool_spare_);
   }
   profile_.manifolds = seconds_since(t_start);
   cache_.update(found_, config_.contact_match_distance);

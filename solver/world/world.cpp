@@ -126,6 +126,17 @@ Aabb3 shape_aabb(BodyShape const& shape, Iso3 const& pose) {
   return std::visit([&](auto const& s) { return s.aabb(pose); }, shape);
 }
 
+/// The distance from the shape's origin to its farthest point: exact for the primitives and
+/// hulls, the farthest corner of the local bounds for a mesh or height field, infinite for a
+/// half-space.
+float shape_reach(BodyShape const& shape) {
+  if (std::holds_alternative<HalfSpace>(shape)) return std::numeric_limits<float>::infinity();
+  if (!triangle_shape(shape)) return shape_max_extent(shape, Vec3{});
+  Aabb3 const box = shape_aabb(shape, Iso3::IDENTITY);
+  if (!box.is_valid()) return 0.0f; // an empty mesh: never touches anything
+  return box.min.abs().max(box.max.abs()).length();
+}
+
 std::uint64_t fnv(std::uint64_t h, float x) {
   std::uint32_t const b = std::bit_cast<std::uint32_t>(x);
   for (int i = 0; i < 4; ++i) {
@@ -266,6 +277,7 @@ CreateBodyResult World::create_body(BodyDef const& def) {
 }
 
 std::uint32_t World::take_slot(Body&& b, BodyState const& s) {
+  b.reach = shape_reach(b.shape);
   if (!free_slots_.empty()) { // the last freed slot, at its next generation
     std::uint32_t const i = free_slots_.back();
     free_slots_.pop_back();

@@ -420,6 +420,24 @@ struct WorldConfig {
   /// the previous step within this distance (m).
   float contact_match_distance = 0.01f;
   ManifoldConfig manifold{};
+  /// Manifold reuse (m): a pair keeps the manifolds it had when they were last computed, moved
+  /// with its bodies (the normal with A, B's points with B, each separation measured again
+  /// from A's point, A's point put back opposite B's), while no point of the smaller of its
+  /// two shapes has moved more than reuse_distance relative to the other body since then and
+  /// their relative rotation has not changed by more than reuse_angle (rad); a pair that was
+  /// apart stays apart. The motion is bounded by |change of that shape's origin seen from the
+  /// other body| + 2 sin(angle/2) x the shape's reach (its farthest point from its origin):
+  /// a long body turning a little is not reused where a small one is (the rule and its error:
+  /// docs/performance.md, "Manifold reuse"). A reused separation is then within twice
+  /// reuse_distance of a fresh manifold's and its normal within reuse_angle, and a pair
+  /// reused as apart is still more than prediction - reuse_distance apart: it cannot pass
+  /// into another. reuse_distance above half the prediction distance acts as half of it,
+  /// reuse_angle above 1 rad as 1; either 0, negative or NaN: every pair is computed every
+  /// step (StepProfile::reused_pairs counts the others). Slot reuse (a body destroyed and
+  /// another created in its place) is never mistaken for the old pair. Every width and thread
+  /// count reuses the same pairs.
+  float reuse_distance = 0.0001f;
+  float reuse_angle = 0.01f;
   /// Which broad phase finds the pairs (solver/world/broad_phase.hpp). Both give the same
   /// pairs, so the same world; sort_and_sweep is the baseline the BVH is measured against.
   BroadPhaseKind broad_phase = BroadPhaseKind::bvh;
@@ -465,14 +483,15 @@ struct WorldConfig {
 /// manifolds: the part of narrow_phase spent making the pairs' manifolds (before the contact
 /// cache matches them). pairs: the pairs the narrow phase tested; box_pairs: those of two cuboids,
 /// which it ran through the manifold kernel in lanes (collision/box_manifold.hpp);
-/// general_box_pairs: those of them the kernel left to the general path.
+/// general_box_pairs: those of them the kernel left to the general path. reused_pairs: the
+/// pairs that kept their manifolds (WorldConfig::reuse_distance), not counted in box_pairs.
 struct StepProfile {
   double broad_phase = 0, narrow_phase = 0, prepare = 0, solve = 0, finalize = 0, total = 0;
   double joints = 0;
   double continuous = 0;
   double sleep = 0;
   double manifolds = 0;
-  std::size_t pairs = 0, box_pairs = 0, general_box_pairs = 0;
+  std::size_t pairs = 0, box_pairs = 0, general_box_pairs = 0, reused_pairs = 0;
 };
 
 class World {
@@ -812,6 +831,9 @@ private:
     /// Distance from the centre of mass to the farthest point of the surface (dynamic
     /// bodies; sleeping's measure of speed).
     float max_extent = 0.0f;
+    /// Distance from the body's origin to the farthest point of its shape (infinite for a
+    /// half-space): manifold reuse's lever arm.
+    float reach = 0.0f;
     bool sleeping = false; ///< a dynamic body asleep (not in moving_bodies_)
     bool sleep_enabled = true;
     float sleep_threshold = 0.05f;
@@ -1014,8 +1036,29 @@ private:
   std::vector<PairManifold> found_;  ///< this step's manifolds, by pair
   /// The narrow phase's output per chunk of collide_chunk pairs (kept for their capacity).
   std::vector<std::vector<PairManifold>> found_chunks_;
-  /// Per chunk: its cuboid pairs, and how many of them took the general path (StepProfile).
-  std::vector<std::array<std::uint32_t, 2>> chunk_counts_;
+  /// Per chunk: its cuboid pairs, how many of them took the general path and how many pairs
+  /// kept their manifolds (StepProfile).
+  std::vector<std::array<std::uint32_t, 3>> chunk_counts_;
+  /// A pair's manifolds as last computed, for reuse (WorldConfig::reuse_distance): the slots'
+  /// generations, B's rotation and origin seen from A and A's origin seen from B at the time,
+  /// and `count` manifolds from `first` in reuse_pool_ (normal and point_a in A's frame,
+  /// point_b in B's; count 0: apart). fresh: computed this step, `first` then counts in its
+  /// chunk's list until the pool takes them.
+  struct ReuseEntry {
+    std::uint64_t pair = 0;
+    std::uint32_t generation_a = 0, generation_b = 0;
+    Quat rotation{};
+    Vec3 b_from_a{}, a_from_b{};
+    std::uint32_t first = 0, count = 0;
+    bool fresh = false;
+  };
+  std::vector<ReuseEntry> reuse_;      ///< sorted by pair; the last narrow phase's pairs
+  std::vector<ReuseEntry> reuse_next_; ///< being built by this step's narrow phase
+  /// The kept manifolds: appended to as pairs are computed, compacted when most of it is no
+  /// longer named (a settled scene appends nothing and copies nothing).
+  std::vector<Manifold> reuse_pool_, reuse_pool_spare_;
+  std::vector<std::vector<ReuseEntry>> reuse_chunks_;        ///< per chunk
+  std::vector<std::vector<Manifold>> reuse_manifold_chunks_; ///< a chunk's fresh manifolds
   ContactCache cache_;
   std::vector<BodyId> frozen_;
   StepEvents events_, pending_; ///< pending_: destroy_body's ends, for the next step
