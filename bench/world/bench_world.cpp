@@ -65,9 +65,8 @@ void stage_counters(benchmark::State& st, StepProfile const& p) {
   st.counters["sleep_us"] = 1e6 * p.sleep;
 }
 
-/// The scene with `layers` layers, settled for 60 steps (built once per binary).
-/// The pyramid of `layers` layers settled for 60 steps; reuse false: manifold reuse off
-/// (WorldConfig::reuse_distance 0), every pair computed every step.
+/// The pyramid of `layers` layers, settled for 60 steps (built once per binary); reuse false:
+/// manifold reuse off (WorldConfig::reuse_distance 0), every pair computed every step.
 World const& settled_pyramid(int layers, bool reuse = true) {
   static std::map<std::pair<int, bool>, World> cache;
   auto it = cache.find({layers, reuse});

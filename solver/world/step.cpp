@@ -69,15 +69,18 @@ RelativePose relative_pose(Iso3 const& pa, Iso3 const& pb) {
 /// relative rotation is at most max_chord (as 2 sin(angle/2), twice the length of its vector
 /// part), and no point of the smaller shape moved more than max_drift relative to the other
 /// body (bounded by the origin's displacement plus 2 sin(angle/2) x reach). False for NaN.
+/// The lever of each bound is the shape's reach plus `pad` (the manifold's deepest |separation|
+/// or the prediction distance, the larger): B's points lie that far from A's surface, and a
+/// turn about A's origin moves them by the chord times their distance from it.
 bool may_reuse(Quat const& rotation_before, Vec3 const& b_before, Vec3 const& a_before,
-               RelativePose const& now, float reach_a, float reach_b, float max_drift,
+               RelativePose const& now, float reach_a, float reach_b, float pad, float max_drift,
                float max_chord) {
   Quat const d = rotation_before.conjugate() * now.rotation;
   float const chord = 2.0f * std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
   if (!(chord <= max_chord)) return false;
   // chord 0 (no turn) with an infinite reach (a half-space) is no lever at all, not NaN.
-  float const lever_a = chord > 0.0f ? chord * reach_a : 0.0f;
-  float const lever_b = chord > 0.0f ? chord * reach_b : 0.0f;
+  float const lever_a = chord > 0.0f ? chord * (reach_a + pad) : 0.0f;
+  float const lever_b = chord > 0.0f ? chord * (reach_b + pad) : 0.0f;
   float const via_b = (now.b_from_a - b_before).length() + lever_b;
   float const via_a = (now.a_from_b - a_before).length() + lever_a;
   return std::min(via_a, via_b) <= max_drift;
@@ -285,9 +288,11 @@ void World::collide_pairs() {
   if (chunk_counts_.size() < chunks) chunk_counts_.resize(chunks);
   if (reuse_chunks_.size() < chunks) reuse_chunks_.resize(chunks);
   if (reuse_manifold_chunks_.size() < chunks) reuse_manifold_chunks_.resize(chunks);
-  // NaN, 0 or less: off (may_reuse is then false for every pair).
+  // Either NaN, 0 or less: off (nothing reused, nothing kept).
   float const reuse_limit = std::min(config_.reuse_distance, 0.5f * config_.manifold.prediction);
   float const reuse_chord = 2.0f * std::sin(0.5f * std::min(config_.reuse_angle, 1.0f));
+  bool const reuse_on = reuse_limit > 0.0f && reuse_chord > 0.0f;
+  float const prediction = config_.manifold.prediction;
   parallel_for(config_.tasks, chunks, min_chunks, [&](std::uint32_t begin, std::uint32_t end) {
     std::array<Manifold, max_mesh_manifolds> ms;
     std::array<Manifold, collide_chunk> box; // a cuboid pair's manifold, by place in the chunk
@@ -318,10 +323,10 @@ void World::collide_pairs() {
         kept[p - first] = ~std::uint32_t(0);
         while (entry != reuse_.end() && entry->pair < pair)
           ++entry;
-        if (entry != reuse_.end() && entry->pair == pair && entry->generation_a == a.generation &&
-            entry->generation_b == b.generation &&
+        if (reuse_on && entry != reuse_.end() && entry->pair == pair &&
+            entry->generation_a == a.generation && entry->generation_b == b.generation &&
             may_reuse(entry->rotation, entry->b_from_a, entry->a_from_b, rel[p - first], a.reach,
-                      b.reach, reuse_limit, reuse_chord))
+                      b.reach, std::max(entry->depth, prediction), reuse_limit, reuse_chord))
           kept[p - first] = std::uint32_t(entry - reuse_.begin());
       }
       for (std::uint32_t p = first; p < last; ++p) {
@@ -399,10 +404,14 @@ void World::collide_pairs() {
           out.push_back({pair, found[k], friction, restitution, a.is_dynamic(), b.is_dynamic()});
           failed = failed || found[k].failed;
         }
-        if (reuse_limit > 0.0f && !failed) { // kept for the next steps (a failure never is)
+        if (reuse_on && !failed) { // kept for the next steps (a failure never is)
           RelativePose const& r = rel[p - first];
+          float depth = 0.0f;
+          for (int k = 0; k < n; ++k)
+            for (ContactPoint const& c : found[k])
+              depth = std::max(depth, std::abs(c.separation));
           entries.push_back({pair, a.generation, b.generation, r.rotation, r.b_from_a, r.a_from_b,
-                             std::uint32_t(locals.size()), std::uint32_t(n), true});
+                             depth, std::uint32_t(locals.size()), std::uint32_t(n), true});
           for (int k = 0; k < n; ++k)
             locals.push_back(to_local(found[k], a.pose, b.pose));
         }

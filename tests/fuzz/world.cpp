@@ -1264,8 +1264,9 @@ extern "C" int LLVMFuzzerTestOneInput(std::uint8_t const* data, std::size_t size
   if (c & 8) cfg.gravity = in.vec3(-20, 20);
   if (c & 16) cfg.sleep = false;
   if (c & 32) cfg.time_to_sleep = in.real(0, 0.1f); // islands fall asleep within the steps
-  // Manifold reuse off, or as loose as it gets (half the prediction distance, a radian); no
-  // bytes read, so the corpus keeps its meaning.
+  // Manifold reuse off, or as loose as it gets (half the speculative distance, a radian); no
+  // bytes read, so the rest of an input decodes as before (only inputs with these bits set
+  // now run with another reuse setting).
   if (c & 64) cfg.reuse_distance = 0.0f;
   if (c & 128) cfg.reuse_distance = 1.0f, cfg.reuse_angle = 1.0f;
   plume::World w(cfg);

@@ -422,16 +422,19 @@ struct WorldConfig {
   ManifoldConfig manifold{};
   /// Manifold reuse (m): a pair keeps the manifolds it had when they were last computed, moved
   /// with its bodies (the normal with A, B's points with B, each separation measured again
-  /// from A's point, A's point put back opposite B's), while no point of the smaller of its
-  /// two shapes has moved more than reuse_distance relative to the other body since then and
-  /// their relative rotation has not changed by more than reuse_angle (rad); a pair that was
-  /// apart stays apart. The motion is bounded by |change of that shape's origin seen from the
-  /// other body| + 2 sin(angle/2) x the shape's reach (its farthest point from its origin):
-  /// a long body turning a little is not reused where a small one is (the rule and its error:
-  /// docs/performance.md, "Manifold reuse"). A reused separation is then within twice
-  /// reuse_distance of a fresh manifold's and its normal within reuse_angle, and a pair
-  /// reused as apart is still more than prediction - reuse_distance apart: it cannot pass
-  /// into another. reuse_distance above half the prediction distance acts as half of it,
+  /// from A's point, A's point put back opposite B's), while nothing within the speculative
+  /// distance of the smaller of its two shapes has moved more than reuse_distance relative
+  /// to the other body since then and their relative rotation has not changed by more than
+  /// reuse_angle (rad); a pair that was apart stays apart. The motion is bounded by |change
+  /// of that shape's origin seen from the other body| + 2 sin(angle/2) x (the shape's reach,
+  /// its farthest point from its origin, + the speculative distance or the manifold's
+  /// deepest overlap): a long body turning a little is not reused where a small one is (the
+  /// rule and its error: docs/performance.md, "Manifold reuse"). Each reused separation is
+  /// then within reuse_distance of the same point's when it was computed (so the smallest
+  /// within twice reuse_distance of the shapes' distance), and a pair reused as apart is
+  /// still more than speculative_distance - reuse_distance apart: it cannot pass into
+  /// another. The normal is the old one turned with A: B's frame turned at most reuse_angle
+  /// against it. reuse_distance above half the speculative distance acts as half of it,
   /// reuse_angle above 1 rad as 1; either 0, negative or NaN: every pair is computed every
   /// step (StepProfile::reused_pairs counts the others). Slot reuse (a body destroyed and
   /// another created in its place) is never mistaken for the old pair. Every width and thread
@@ -1049,6 +1052,7 @@ private:
     std::uint32_t generation_a = 0, generation_b = 0;
     Quat rotation{};
     Vec3 b_from_a{}, a_from_b{};
+    float depth = 0.0f; ///< the largest |separation| of its points
     std::uint32_t first = 0, count = 0;
     bool fresh = false;
   };
