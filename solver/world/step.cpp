@@ -60,9 +60,8 @@ struct RelativePose {
 };
 
 RelativePose relative_pose(Iso3 const& pa, Iso3 const& pb) {
-  Quat const inv_a = pa.rotation.conjugate();
-  Vec3 const d = pb.translation - pa.translation;
-  return {inv_a * pb.rotation, inv_a * d, pb.rotation.conjugate() * (-d)};
+  Iso3 const b_in_a = pa.inv_mul(pb);
+  return {b_in_a.rotation, b_in_a.translation, pb.inverse_transform_point(pa.translation)};
 }
 
 /// Whether the pair may keep manifolds computed at `before`: the change of the bodies'
