@@ -6,6 +6,8 @@
 # 1. installs the Debian packages that are missing (as root; see tools/install_deps.sh);
 # 2. configures, builds (warnings are errors here) and tests the scalar, sse2, avx2 and
 #    avx512 variants - tests of an instruction set this CPU lacks are reported as skipped;
+#    the sse2 variant is the dispatch build (one binary, kernels per instruction set), which
+#    also runs its dispatch tests and install;
 # 3. an AddressSanitizer + UndefinedBehaviorSanitizer build (avx2), tests only;
 #    a ThreadSanitizer build of the threaded step's test (sse2);
 #    a clang build (avx2), tests only;
@@ -50,8 +52,13 @@ prune() {
 configure_build() { # <preset> [cmake args...]: build/ci-<preset>, warnings are errors
   local preset=$1
   shift
-  plume_configure "$preset" "build/ci-$preset" -DCMAKE_COMPILE_WARNING_AS_ERROR=ON "$@" &&
-    plume_build "build/ci-$preset"
+  configure_build_in "$preset" "build/ci-$preset" "$@"
+}
+
+configure_build_in() { # <preset> <dir> [cmake args...]: warnings are errors
+  local preset=$1 dir=$2
+  shift 2
+  plume_configure "$preset" "$dir" -DCMAKE_COMPILE_WARNING_AS_ERROR=ON "$@" && plume_build "$dir"
 }
 
 configure_build_target() { # <preset> <target>: build/ci-<preset>, only that test target
@@ -77,13 +84,29 @@ for v in "${variants[@]}"; do
   [ "$v" = scalar ] && examples=ON
   skip_bench=OFF
   [ "$v" != scalar ] && [ "$v" != "$widest" ] && plume_cpu_runs "$v" && skip_bench=ON
-  if ! configure_build "$v" -DPLUME_TEST_TYPES=native -DPLUME_BUILD_EXAMPLES=$examples \
-    -DPLUME_BENCH_EXCLUDE_FROM_ALL=$skip_bench; then
+  # The sse2 variant is built as the dispatch build (preset dispatch: the sse2 build, plus
+  # World::step, the batch casts and the math functions over spans compiled once more for
+  # sse2, avx2 and avx512, chosen at run time). Its tests run with PLUME_ISA=sse2, so every
+  # dispatched call takes the sse2 kernels and the variant tests what the sse2 build would;
+  # then its dispatch tests run every carried set this CPU runs against the scalar path in one
+  # process (the others reported as skipped), install it into the consumer project (static
+  # and shared) and check that no AVX instruction sits outside its per-set kernels. The avx512
+  # kernels compile (and are isolated) on any machine.
+  preset=$v
+  [ "$v" = sse2 ] && preset=dispatch
+  if ! configure_build_in "$preset" "build/ci-$v" -DPLUME_TEST_TYPES=native \
+    -DPLUME_BUILD_EXAMPLES=$examples -DPLUME_BENCH_EXCLUDE_FROM_ALL=$skip_bench; then
     failed+=("$v build")
     continue
   fi
   step "variant $v: tests"
-  ctest --test-dir "build/ci-$v" --output-on-failure -j "$jobs" || failed+=("$v tests")
+  if [ "$preset" = dispatch ]; then
+    PLUME_ISA=sse2 ctest --test-dir "build/ci-$v" --output-on-failure -j "$jobs" -E dispatch ||
+      failed+=("$v tests")
+    ctest --test-dir "build/ci-$v" --output-on-failure -j "$jobs" -R dispatch || failed+=("dispatch tests")
+  else
+    ctest --test-dir "build/ci-$v" --output-on-failure -j "$jobs" || failed+=("$v tests")
+  fi
   prune "build/ci-$v"
 done
 

@@ -245,7 +245,7 @@ void TriangleMesh::build_blocks() {
     }
     block_root_.push_back(i);
   }
-  block_bvh_ = make_block_bvh<f32xN>();
+  block_bvh_ = make_block_bvh<f32xS>();
 }
 
 MeshRayHit TriangleMesh::ray_cast(Iso3 const& pose, Ray3 const& ray, float max_toi) const {
@@ -280,7 +280,7 @@ Vec3 closest_point_on_triangle(Triangle const& t, Vec3 const& p) noexcept {
 MeshClosestPoint TriangleMesh::closest_point(Vec3 const& p, float max_distance) const {
   if (bvh_.empty() || !finite(p) || !(max_distance >= 0.0f)) return {};
   using W = WideBvh;
-  using T = f32xN;
+  using T = f32xS;
   constexpr std::size_t K = W::arity, L = W::lanes;
   detail::NearestTrianglePoint nearest(p, max_distance);
   GVec3<T> const q = detail::splat3<T>(p);

@@ -1,5 +1,6 @@
 // plume/numerics.hpp - the numerics module: element types, concepts, masks, constants,
-// per-element functions, transcendental functions and reductions.
+// per-element functions, transcendental functions and reductions; the math functions over
+// spans (spans.hpp) and the choice of instruction set for dispatched entry points (isa.hpp).
 //
 // Call plume's functions qualified (plume::min, plume::select, plume::any): xsimd defines
 // functions of the same names, and for batch arguments an unqualified call finds those by
@@ -15,9 +16,11 @@
 #include <plume/numerics/exp_log.hpp>
 #include <plume/numerics/functions.hpp>
 #include <plume/numerics/hypot.hpp>
+#include <plume/numerics/isa.hpp>
 #include <plume/numerics/mask.hpp>
 #include <plume/numerics/memory.hpp>
 #include <plume/numerics/reduce.hpp>
+#include <plume/numerics/spans.hpp>
 #include <plume/numerics/traits.hpp>
 #include <plume/numerics/transpose.hpp>
 #include <plume/numerics/trig.hpp>

@@ -3,6 +3,7 @@
 
 #include <plume/character.hpp>
 #include <plume/collision.hpp>
+#include <plume/dispatch.hpp>
 #include <plume/math.hpp>
 #include <plume/numerics.hpp>
 #include <plume/solver.hpp>

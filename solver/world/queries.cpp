@@ -1,5 +1,7 @@
 // The world's spatial queries (include/plume/solver/world/world.hpp): candidates from the
-// broad phase's trees, then the exact query on each candidate's shape at its pose.
+// broad phase's trees, then the exact query on each candidate's shape at its pose. The batch
+// forms' entry points are in entry_points.cpp; a PLUME_DISPATCH=ON build also compiles this
+// file once per carried set (world_kernels.cpp).
 #include <plume/solver/world/world.hpp>
 
 #include <algorithm>
@@ -228,11 +230,6 @@ std::optional<WorldRayHit> World::ray_cast(Ray3 const& ray, float max_toi,
   return best;
 }
 
-void World::ray_cast(std::span<Ray3 const> rays, float max_toi,
-                     std::span<std::optional<WorldRayHit>> out, QueryFilter const& filter) const {
-  ray_cast_with<f32xN>(rays, max_toi, out, filter);
-}
-
 namespace {
 /// A shape of kind S in the lanes of T, lane k from at(k) (sizes may differ by lane): the
 /// batch queries' query shapes, and a body's shape in every lane.
@@ -384,7 +381,11 @@ void World::ray_cast_with(std::span<Ray3 const> rays, float max_toi,
   template void World::ray_cast_with<T>(std::span<Ray3 const>, float,                              \
                                         std::span<std::optional<WorldRayHit>>, QueryFilter const&) \
       const;
+#if defined(PLUME_DISPATCH_ISA) // one set's copy of the queries (world_kernels.cpp)
+PLUME_INSTANTIATE_RAYS(f32xN, 0)
+#else
 PLUME_FOR_EACH_F32_TYPE(PLUME_INSTANTIATE_RAYS)
+#endif
 
 // ------------------------------------------------------------------------ shapes
 
@@ -511,13 +512,6 @@ std::optional<WorldShapeHit> World::shape_cast(BodyShape const& shape, Iso3 cons
   });
 }
 
-void World::shape_cast(std::span<BodyShape const> shapes, std::span<Iso3 const> poses,
-                       std::span<Vec3 const> motions, ShapeCastConfig const& cfg,
-                       std::span<std::optional<WorldShapeHit>> out,
-                       QueryFilter const& filter) const {
-  shape_cast_with<f32xN>(shapes, poses, motions, cfg, out, filter);
-}
-
 template <class T>
 void World::shape_cast_with(std::span<BodyShape const> shapes, std::span<Iso3 const> poses,
                             std::span<Vec3 const> motions, ShapeCastConfig const& cfg,
@@ -641,7 +635,11 @@ void World::shape_cast_with(std::span<BodyShape const> shapes, std::span<Iso3 co
   template void World::shape_cast_with<T>(                                                         \
       std::span<BodyShape const>, std::span<Iso3 const>, std::span<Vec3 const>,                    \
       ShapeCastConfig const&, std::span<std::optional<WorldShapeHit>>, QueryFilter const&) const;
+#if defined(PLUME_DISPATCH_ISA)
+PLUME_INSTANTIATE_SHAPES(f32xN, 0)
+#else
 PLUME_FOR_EACH_F32_TYPE(PLUME_INSTANTIATE_SHAPES)
+#endif
 
 void World::overlap_aabb(Aabb3 const& box, std::function<bool(ColliderId)> const& f,
                          QueryFilter const& filter) const {

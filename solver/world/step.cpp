@@ -1,5 +1,7 @@
 // The world's step (include/plume/solver/world/world.hpp), stage by stage. Compiled once per
-// build, with World::step_with instantiated for float and every f32 width the build enables.
+// build, with World::step_with instantiated for float and every f32 width the build enables;
+// in a PLUME_DISPATCH=ON build also once per carried instruction set (world_kernels.cpp), with
+// step_with instantiated for that set's widest width only. World::step: entry_points.cpp.
 #include <plume/math/pack.hpp>
 #include <plume/solver/world/world.hpp>
 
@@ -769,10 +771,12 @@ void World::step_with(float dt) {
   profile_.total = seconds_since(t_start);
 }
 
-void World::step(float dt) { step_with<f32xN>(dt); }
-
+#if defined(PLUME_DISPATCH_ISA) // one set's copy of the step: its widest width
+template void World::step_with<f32xN>(float);
+#else
 #define PLUME_INSTANTIATE_STEP(T, lanes) template void World::step_with<T>(float);
 PLUME_FOR_EACH_F32_TYPE(PLUME_INSTANTIATE_STEP)
 #undef PLUME_INSTANTIATE_STEP
+#endif
 
 } // namespace plume

@@ -227,9 +227,16 @@ int main() {
   bool const joint_ok = std::abs(js.angular_speed - 6.0f) < 0.01f &&
                         jointed.set_motor(hinge, Motor::position_control(1.0f)) == JointError::none;
   std::printf("consumer: a motorised hinge turns at %g rad/s\n", js.angular_speed);
+  // The README's dispatch example: sines of an array on the widest kernels this CPU has.
+  std::vector<float> angles(1000, 0.5f), sines(1000);
+  SpanError const span_error = plume::sin(angles, sines);
+  bool const dispatch_ok =
+      span_error == SpanError::none && sines[999] == plume::sin(0.5f) && cpu_has(active_isa());
+  std::printf("consumer: %zu sines on %s kernels\n", sines.size(),
+              std::string(isa_name(active_isa())).c_str());
   return (s == 1.0f && l == 10.0 && lanes_equal && one > 1.5f && geometry_ok && solver_ok &&
           ray_ok && contact_ok && world_ok && spatial_ok && move_ok && ground_ok && hero_ok &&
-          joint_ok)
+          joint_ok && dispatch_ok)
              ? 0
              : 1;
 }

@@ -214,7 +214,8 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
   simplex<T> s;
   GVec3<T> x = origin;
   GVec3<T> v = GVec3<T>::select(v0.dot(v0) > zero, v0, -r);
-  v = GVec3<T>::select(v.dot(v) > zero, v, GVec3<T>::X);
+  v = GVec3<T>::select(v.dot(v) > zero, v,
+                       GVec3<T>{plume::one<T>(), plume::zero<T>(), plume::zero<T>()});
   T d2_ref = infinity<T>(); // |v|^2 of the simplex at the current x (+inf: none yet)
   mask_t<T> active = !bad_input;
   mask_t<T> advanced_ever = no_lanes<T>();
@@ -338,7 +339,8 @@ PLUME_FLATTEN GClosestPoints<T> closest_points(A const& a, GIso3<T> const& pose_
   mask_t<T> bad_input = !good_input;
   GVec3<T> v =
       GVec3<T>::select(axis.dot(axis) > zero, axis, pose_a.translation - pose_b.translation);
-  v = GVec3<T>::select(v.dot(v) > zero, v, GVec3<T>::X);
+  v = GVec3<T>::select(v.dot(v) > zero, v,
+                       GVec3<T>{plume::one<T>(), plume::zero<T>(), plume::zero<T>()});
 
   detail::simplex<T> s;
   T d2 = infinity<T>();      // |v|^2 of the simplex held

@@ -237,7 +237,7 @@ struct GTriangle {
   mask_t<T> is_finite() const noexcept { return (a.is_finite() & b.is_finite()) & c.is_finite(); }
   /// A surface has no mass: mass 0, centre at the centroid, zero inertia.
   GMassProperties<T> mass_properties(T) const noexcept {
-    return {zero<T>(), (a + b + c) * splat<T>(1.0 / 3.0), GMat3<T>::ZERO};
+    return {zero<T>(), (a + b + c) * splat<T>(1.0 / 3.0), GMat3<T>{}};
   }
 };
 
@@ -260,7 +260,7 @@ struct GSegment {
   mask_t<T> is_finite() const noexcept { return a.is_finite() & b.is_finite(); }
   /// A line has no mass: mass 0, centre at the midpoint, zero inertia.
   GMassProperties<T> mass_properties(T) const noexcept {
-    return {zero<T>(), (a + b) * half<T>(), GMat3<T>::ZERO};
+    return {zero<T>(), (a + b) * half<T>(), GMat3<T>{}};
   }
 };
 

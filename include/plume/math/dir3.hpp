@@ -34,7 +34,9 @@ public:
   /// v normalised where its length is finite and non-zero; elsewhere X and valid = false.
   static checked try_new(GVec3<T> const& v) noexcept {
     auto const n = v.try_normalize();
-    return {from_unchecked(GVec3<T>::select(n.valid, n.value, GVec3<T>::X)), n.valid};
+    return {from_unchecked(GVec3<T>::select(
+                n.valid, n.value, GVec3<T>{plume::one<T>(), plume::zero<T>(), plume::zero<T>()})),
+            n.valid};
   }
   /// Scalar convenience: std::nullopt for a zero or non-finite vector.
   static std::optional<GDir3> new_checked(GVec3<T> const& v) noexcept requires ScalarReal<T> {

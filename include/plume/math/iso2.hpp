@@ -20,7 +20,9 @@ struct GIso2 {
   static GIso2 const IDENTITY;
 
   static GIso2 from_translation(GVec2<T> const& t) noexcept { return {GRot2<T>::IDENTITY, t}; }
-  static GIso2 from_rotation(GRot2<T> const& r) noexcept { return {r, GVec2<T>::ZERO}; }
+  static GIso2 from_rotation(GRot2<T> const& r) noexcept {
+    return {r, GVec2<T>::splat(plume::zero<T>())};
+  }
   GVec2<T> transform_point(GVec2<T> const& p) const noexcept { return rotation * p + translation; }
   GVec2<T> transform_vector(GVec2<T> const& v) const noexcept { return rotation * v; }
   GVec2<T> inverse_transform_point(GVec2<T> const& p) const noexcept {

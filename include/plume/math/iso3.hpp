@@ -30,7 +30,9 @@ struct GIso3 {
     return {r, t};
   }
   static GIso3 from_translation(GVec3<T> const& t) noexcept { return {GQuat<T>::IDENTITY, t}; }
-  static GIso3 from_rotation(GQuat<T> const& r) noexcept { return {r, GVec3<T>::ZERO}; }
+  static GIso3 from_rotation(GQuat<T> const& r) noexcept {
+    return {r, GVec3<T>::splat(plume::zero<T>())};
+  }
 
   /// rotation * p + translation
   GVec3<T> transform_point(GVec3<T> const& p) const noexcept { return rotation * p + translation; }

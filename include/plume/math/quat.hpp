@@ -125,7 +125,7 @@ struct GQuat {
     T const angle = v.length();
     mask_t<T> const zero = angle == plume::zero<T>();
     GVec3<T> const axis = v / plume::select(zero, plume::one<T>(), angle);
-    return select(zero, IDENTITY, from_axis_angle(axis, angle));
+    return select(zero, GQuat{}, from_axis_angle(axis, angle)); // GQuat{}: the identity
   }
   static GQuat from_rotation_x(T angle) noexcept {
     auto const [s, c] = plume::sincos(angle * plume::half<T>());
@@ -215,7 +215,7 @@ struct GQuat {
     GVec3<T> const c = from.cross(to);
     GQuat const general = GQuat{c.x, c.y, c.z, plume::one<T>() + d}.normalize();
     GQuat const half_turn = from_axis_angle(from.any_orthonormal_vector(), plume::pi<T>());
-    return select(d > limit, IDENTITY, select(d < -limit, half_turn, general));
+    return select(d > limit, GQuat{}, select(d < -limit, half_turn, general));
   }
 
   struct axis_angle {
@@ -228,7 +228,8 @@ struct GQuat {
     T const len = v.length();
     mask_t<T> const ok = len >= splat<T>(scalar_type(1e-8));
     T const safe = plume::select(ok, len, plume::one<T>());
-    return {GVec3<T>::select(ok, v / safe, GVec3<T>::X),
+    return {GVec3<T>::select(ok, v / safe,
+                             GVec3<T>{plume::one<T>(), plume::zero<T>(), plume::zero<T>()}),
             plume::select(ok, plume::two<T>() * plume::atan2(len, w), plume::zero<T>())};
   }
   /// axis * angle.

@@ -38,7 +38,7 @@ struct GRot2 {
   T length_squared() const noexcept { return cos * cos + sin * sin; }
   GRot2 normalize() const noexcept {
     auto const n = GVec2<T>{cos, sin}.try_normalize();
-    return select(n.valid, GRot2{n.value.x, n.value.y}, IDENTITY);
+    return select(n.valid, GRot2{n.value.x, n.value.y}, GRot2{}); // GRot2{}: the identity
   }
   mask_t<T> is_normalized() const noexcept {
     return plume::abs(length_squared() - plume::one<T>()) <= plume::splat<T>(scalar_type(2e-4));

@@ -129,13 +129,15 @@ struct GVec2 {
   normalized try_normalize() const noexcept requires Float<T> {
     T const r = length_recip();
     mask_t<T> const ok = plume::is_finite(r) & (r > plume::zero<T>());
-    return {select(ok, *this * r, ZERO), ok};
+    return {select(ok, *this * r, splat(plume::zero<T>())), ok};
   }
   GVec2 normalize_or(GVec2 const& fallback) const noexcept requires Float<T> {
     T const r = length_recip();
     return select(plume::is_finite(r) & (r > plume::zero<T>()), *this * r, fallback);
   }
-  GVec2 normalize_or_zero() const noexcept requires Float<T> { return normalize_or(ZERO); }
+  GVec2 normalize_or_zero() const noexcept requires Float<T> {
+    return normalize_or(splat(plume::zero<T>()));
+  }
   mask_t<T> is_normalized() const noexcept requires Real<T> {
     return plume::abs(length_squared() - plume::one<T>()) <= plume::splat<T>(scalar_type(2e-4));
   }

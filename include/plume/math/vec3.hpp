@@ -58,6 +58,11 @@ struct GVec3 {
   // Constants (defined below the class). NAN/INFINITY are <cmath> macros: QNAN, INF.
   // For scalar T they are constant-initialised; for batches they are initialised before
   // main in unspecified order: do not read them from other static initialisers.
+  // The named constants. plume's own templates over T spell them out instead
+  // (splat(zero<T>()), {one<T>(), zero<T>(), zero<T>()}): for a batch T each constant is
+  // initialized when the program starts, and in a PLUME_DISPATCH=ON build that start-up code,
+  // in a wider instruction set's kernels, would run on every CPU (the build refuses it:
+  // cmake/PlumeIsolateObject.cmake).
   static GVec3 const ZERO, ONE, NEG_ONE, X, Y, Z, NEG_X, NEG_Y, NEG_Z, MIN, MAX, QNAN, INF, NEG_INF;
   static GVec3 const AXES[3];
 
@@ -195,13 +200,15 @@ struct GVec3 {
   normalized try_normalize() const noexcept requires Float<T> {
     T const r = length_recip();
     mask_t<T> const ok = plume::is_finite(r) & (r > plume::zero<T>());
-    return {select(ok, *this * r, ZERO), ok};
+    return {select(ok, *this * r, splat(plume::zero<T>())), ok};
   }
   GVec3 normalize_or(GVec3 const& fallback) const noexcept requires Float<T> {
     T const r = length_recip();
     return select(plume::is_finite(r) & (r > plume::zero<T>()), *this * r, fallback);
   }
-  GVec3 normalize_or_zero() const noexcept requires Float<T> { return normalize_or(ZERO); }
+  GVec3 normalize_or_zero() const noexcept requires Float<T> {
+    return normalize_or(splat(plume::zero<T>()));
+  }
   /// {unit vector, length} where the length is usable, else {X, 0} (glam's choice: the
   /// result is always a unit vector).
   struct normalized_length {
@@ -212,7 +219,8 @@ struct GVec3 {
     T const len = length();
     T const r = plume::one<T>() / len;
     mask_t<T> const ok = plume::is_finite(r) & (r > plume::zero<T>());
-    return {select(ok, *this * r, X), plume::select(ok, len, plume::zero<T>())};
+    return {select(ok, *this * r, GVec3{plume::one<T>(), plume::zero<T>(), plume::zero<T>()}),
+            plume::select(ok, len, plume::zero<T>())};
   }
   /// Per lane: |length^2 - 1| <= 2e-4 (glam's tolerance; about 1e-4 relative in length).
   mask_t<T> is_normalized() const noexcept requires Real<T> {
@@ -243,7 +251,7 @@ struct GVec3 {
     T const k = plume::one<T>() - eta * eta * (plume::one<T>() - ndi * ndi);
     T const root = plume::sqrt(plume::max(k, plume::zero<T>()));
     GVec3 const r = *this * eta - n * (eta * ndi + root);
-    return select(k >= plume::zero<T>(), r, ZERO);
+    return select(k >= plume::zero<T>(), r, splat(plume::zero<T>()));
   }
   /// Unsigned angle in [0, pi] between this and b, in radians; 0 if either is zero.
   T angle_between(GVec3 const& b) const noexcept requires Float<T> {

@@ -5,6 +5,8 @@
 //   f32x16 f64x8 i32x16 u32x16       with AVX-512
 //   f32xN f64xN i32xN                the widest the build enables (float/double/int32_t
 //                                    in a scalar build), for code that just wants "wide"
+//   f32xS                            the element type of stored structures (f32xN, or the
+//                                    baseline's in a PLUME_DISPATCH=ON build)
 // A width the build does not enable is simply not declared.
 //
 // The one list of the widths a build has, for code that instantiates or registers something
@@ -83,6 +85,18 @@ using f64_widths = type_list<>;
 using i32_widths = type_list<>;
 using u32_widths = type_list<>;
 #define PLUME_FOR_EACH_F32_TYPE(X) X(float, 1)
+#endif
+
+/// The element type of the data structures that outlive a call and are read by kernels: a
+/// mesh's trees and triangle blocks, the broad phase's wide copy of the static tree (the
+/// WideBvh alias). f32xN in any build but PLUME_DISPATCH=ON; there, whatever the translation
+/// unit's own flags, the sse2 baseline's batch, so that a structure built by baseline code has
+/// one layout in every instruction set's kernels (each set's kernels then traverse it 4 lanes
+/// at a time).
+#if defined(PLUME_DISPATCH) && PLUME_DISPATCH
+using f32xS = xsimd::batch<float, xsimd::sse2>;
+#else
+using f32xS = f32xN;
 #endif
 
 namespace detail {

@@ -18,11 +18,11 @@
 // degenerate triangles: |(b - a) x (c - a)|^2 below the smallest normal float, which includes
 // repeated vertices and collinear ones; rejects a mesh with no triangle left. Every kept
 // triangle gets a tight box (margin 0) in a GAabbTree<float> rebuilt once by binned SAH and
-// a WideBvh copy (GWideBvh<f32xN>; float in a scalar build) for the box, swept and
+// a WideBvh copy (GWideBvh<f32xS>: f32xN, float in a scalar build) for the box, swept and
 // closest-point queries. Rays use a second copy whose leaves are triangle blocks: each
 // highest subtree of at most triangle_block_size triangles is one leaf, its triangles stored
 // lane by lane (detail::TriangleBlock), so a ray meets a whole leaf in one batch operation
-// per lanes_v<f32xN> triangles.
+// per lanes_v<f32xS> triangles.
 //
 // Ray casts: watertight per triangle (ray_cast_local(GTriangle)): a ray through a shared edge
 // or vertex of consistently wound triangles hits exactly one. Back faces: both faces are hit;
@@ -68,7 +68,7 @@ inline constexpr std::uint32_t no_triangle = 0xffffffffu;
 
 /// Triangles per leaf of a mesh's ray tree: 8, or the widest float batch's lanes if more
 /// (16 with AVX-512). The leaves and their boxes differ between builds; ray results do not.
-inline constexpr std::size_t triangle_block_size = lanes_v<f32xN> > 8 ? lanes_v<f32xN> : 8;
+inline constexpr std::size_t triangle_block_size = lanes_v<f32xS> > 8 ? lanes_v<f32xS> : 8;
 
 namespace detail {
 /// Up to triangle_block_size triangles stored lane by lane: lane i is triangle tri[i]; unused
@@ -96,7 +96,7 @@ struct alignas(64) TriangleBlock {
     return {{l(ax), l(ay), l(az)}, {l(bx), l(by), l(bz)}, {l(cx), l(cy), l(cz)}};
   }
 };
-static_assert(triangle_block_size % lanes_v<f32xN> == 0);
+static_assert(triangle_block_size % lanes_v<f32xS> == 0);
 static_assert(sizeof(TriangleBlock) == 40 * triangle_block_size, "no padding");
 } // namespace detail
 

@@ -134,7 +134,7 @@ private:
 };
 
 /// The widest node the build has (f32xN lanes, at least 4 children).
-using WideBvh = GWideBvh<f32xN>;
+using WideBvh = GWideBvh<f32xS>;
 
 // ------------------------------------------------------------------------ build
 

@@ -11,7 +11,8 @@
 //   Iso3 p = world.pose(box);
 //
 // Units are SI (m, kg, s, rad); the world is float. step(dt) solves with the widest batch
-// the build enables (f32xN); step_with<T>(dt) with the one named (float, f32x4, f32x8,
+// the build enables (f32xN; in a PLUME_DISPATCH=ON build that of the instruction set chosen
+// at run time, plume/numerics/isa.hpp); step_with<T>(dt) with the one named (float, f32x4, f32x8,
 // f32x16: those the build has). Every width gives bitwise the same world (the colouring does
 // not depend on the width, no body appears twice in a colour, and every kernel is
 // lane-exact), and so does every deterministic build (scalar, sse2, avx2, avx512).
@@ -96,6 +97,7 @@
 #include <plume/math/iso3.hpp>
 #include <plume/math/mat3.hpp>
 #include <plume/math/vec3.hpp>
+#include <plume/numerics/isa.hpp>
 #include <plume/solver/body_state.hpp>
 #include <plume/solver/constraint_blocks.hpp>
 #include <plume/solver/constraint_graph.hpp>
@@ -651,8 +653,8 @@ public:
                     std::function<bool(WorldRayHit const&)> const& f,
                     QueryFilter const& filter = {}) const;
   /// One ray_cast per ray, out[i] for rays[i] (each out[i] bitwise the single form's), with
-  /// the widest batch the build has: ray_cast_with<f32xN>. std::invalid_argument when out is
-  /// not as long as rays (nothing written).
+  /// the widest batch the build has: ray_cast_with<f32xN> (dispatched as step is).
+  /// std::invalid_argument when out is not as long as rays (nothing written).
   void ray_cast(std::span<Ray3 const> rays, float max_toi,
                 std::span<std::optional<WorldRayHit>> out, QueryFilter const& filter = {}) const;
   /// The batch form, lanes_v<T> consecutive rays at a time (T one of float, f32x4, f32x8,
@@ -675,7 +677,8 @@ public:
                                           Vec3 const& motion, ShapeCastConfig const& cfg = {},
                                           QueryFilter const& filter = {}) const;
   /// One shape_cast per query: out[i] for shapes[i] at poses[i] moving by motions[i], each
-  /// bitwise the single form's, with the widest batch the build has (shape_cast_with<f32xN>).
+  /// bitwise the single form's, with the widest batch the build has (shape_cast_with<f32xN>,
+  /// dispatched as step is).
   /// std::invalid_argument when the four spans differ in length (nothing written).
   void shape_cast(std::span<BodyShape const> shapes, std::span<Iso3 const> poses,
                   std::span<Vec3 const> motions, ShapeCastConfig const& cfg,
@@ -773,8 +776,10 @@ public:
   /// seconds, a paused clock), and one of 1e30 s carries bodies where distances overflow.
   static constexpr float max_dt = 60.0f;
 
-  /// Advances dt seconds with the widest batch the build has. Ignores dt outside
-  /// [min_dt, max_dt] (zero, negative, NaN and infinite included): the world is unchanged.
+  /// Advances dt seconds with the widest batch the build has (in a PLUME_DISPATCH=ON build,
+  /// the widest of the instruction set chosen at run time: plume/numerics/isa.hpp). Ignores dt
+  /// outside [min_dt, max_dt] (zero, negative, NaN and infinite included): the world is
+  /// unchanged.
   void step(float dt);
   /// Advances dt seconds solving lanes_v<T> constraints at a time; T one of float, f32x4,
   /// f32x8, f32x16 that the build enables. Bitwise the same result for every T.
@@ -1076,5 +1081,12 @@ private:
   StepProfile profile_;
   std::array<std::size_t, ConstraintGraph::color_count + 1> color_sizes_{};
 };
+
+namespace detail {
+/// The instruction set whose kernels World::step, ray_cast and shape_cast run now: the active
+/// one in a PLUME_DISPATCH=ON build, the build's own in any other (what tests check to see
+/// that a switch changed the code that runs).
+Isa world_kernels_isa() noexcept;
+} // namespace detail
 
 } // namespace plume

@@ -1,0 +1,10 @@
+// plume/dispatch.hpp - one binary for every CPU: what a PLUME_DISPATCH=ON build dispatches and
+// how to choose the instruction set (also part of <plume/numerics.hpp>).
+//
+//   Isa, set_isa, active_isa, best_isa, cpu_has, compiled_isas   (numerics/isa.hpp)
+//   sin, cos, ..., pow, sincos over std::span; SpanError          (numerics/spans.hpp)
+//   World::step                                                   (solver/world/world.hpp)
+#pragma once
+
+#include <plume/numerics/isa.hpp>
+#include <plume/numerics/spans.hpp>
