@@ -68,6 +68,8 @@ function(plume_dispatched_kernels target name)
       endif()
     endif()
     target_compile_definitions(${objects} PRIVATE PLUME_DISPATCH_ISA=${isa})
+    # ld -r and objcopy need machine code, not LTO's intermediate representation.
+    set_target_properties(${objects} PROPERTIES INTERPROCEDURAL_OPTIMIZATION OFF)
     target_include_directories(${objects} PRIVATE ${PLUME_GENERATED_INCLUDE})
     target_link_libraries(${objects} PRIVATE ${arg_LINK})
     set(isolated ${CMAKE_CURRENT_BINARY_DIR}/plume_${name}_${isa}${CMAKE_CXX_OUTPUT_EXTENSION})

@@ -10,7 +10,12 @@
 #include <plume/numerics/isa.hpp>
 #include <plume_dispatch_list.hpp>
 
+#if defined(__x86_64__) || defined(__i386__)
 #include <cpuid.h>
+#define PLUME_X86 1
+#else
+#define PLUME_X86 0
+#endif
 
 #include <array>
 #include <atomic>
@@ -73,8 +78,8 @@ int initialize() noexcept {
       std::fprintf(stderr, "plume: PLUME_ISA=%s refused (%.*s); using %.*s\n", value,
                    static_cast<int>(c.warning_reason.size()), c.warning_reason.data(),
                    static_cast<int>(isa_name(c.isa).size()), isa_name(c.isa).data());
-    int expected = -1; // set_isa may have run first, on another thread: it wins
-    active_index.compare_exchange_strong(expected, index_of(c.isa));
+    // set_isa calls initialize() first, so nothing has chosen yet.
+    active_index.store(index_of(c.isa), std::memory_order_release);
   });
   return active_index.load(std::memory_order_acquire);
 }
@@ -86,6 +91,7 @@ namespace detail {
 
 CpuFeatures cpu_features() noexcept {
   CpuFeatures f;
+#if PLUME_X86
   unsigned a = 0, b = 0, c = 0, d = 0;
   if (__get_cpuid(1, &a, &b, &c, &d) == 0) return f;
   f.sse2 = (d >> 26) & 1;
@@ -97,6 +103,8 @@ CpuFeatures cpu_features() noexcept {
   f.xsave = (c >> 26) & 1;
   f.osxsave = (c >> 27) & 1;
   f.avx = (c >> 28) & 1;
+  f.fma = (c >> 12) & 1;
+  f.f16c = (c >> 29) & 1;
   if (__get_cpuid_count(7, 0, &a, &b, &c, &d) != 0) {
     f.avx2 = (b >> 5) & 1;
     f.avx512f = (b >> 16) & 1;
@@ -112,7 +120,8 @@ CpuFeatures cpu_features() noexcept {
     __asm__ volatile("xgetbv" : "=a"(lo), "=d"(hi) : "c"(0));
     f.xcr0 = (std::uint64_t(hi) << 32) | lo;
   }
-  return f;
+#endif
+  return f; // not x86: no set but scalar (the scalar build's)
 }
 
 bool cpu_runs(CpuFeatures const& f, Isa isa) noexcept {
@@ -128,8 +137,8 @@ bool cpu_runs(CpuFeatures const& f, Isa isa) noexcept {
   case Isa::avx2:
     return avx2;
   case Isa::avx512:
-    return avx2 && f.avx512f && f.avx512cd && f.avx512dq && f.avx512bw && f.avx512vl &&
-           (f.xcr0 & avx512_state) == avx512_state;
+    return avx2 && f.fma && f.f16c && f.avx512f && f.avx512cd && f.avx512dq && f.avx512bw &&
+           f.avx512vl && (f.xcr0 & avx512_state) == avx512_state;
   }
   return false;
 }

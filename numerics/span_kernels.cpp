@@ -3,13 +3,14 @@
 // A PLUME_DISPATCH=ON build compiles this file once for each instruction set of the list in
 // cmake/PlumeDispatch.cmake, with that set's flags and PLUME_DISPATCH_ISA defined to its name;
 // a static build compiles it once, with the build's flags. Each loop runs the widest batch the
-// flags enable (plume's f32xN / f64xN) and finishes with one batch loaded from a zero-padded
-// copy of the tail, so no scalar code path exists here: every element goes through the same
+// flags enable (plume's f32xN / f64xN) and finishes with one batch loaded from a copy of the
+// tail padded with ones, so no scalar code path exists here: every element goes through the same
 // template, and the lane-exactness contract makes that the scalar function's bits.
 #include "span_kernels.hpp"
 
 #include <plume/numerics.hpp>
 
+#include <algorithm>
 #include <cstring>
 
 #ifndef PLUME_DISPATCH_ISA
@@ -50,7 +51,8 @@ void map1(S const* x, S* out, std::size_t n, F f) noexcept {
   for (; i + L <= n; i += L)
     store(f(load<W>(x + i)), out + i);
   if (std::size_t const rest = n - i; rest != 0) {
-    alignas(64) S in[L] = {}, res[L];
+    alignas(64) S in[L], res[L];
+    std::fill(in, in + L, S(1)); // a harmless argument for every function (no FP flag raised)
     std::memcpy(in, x + i, rest * sizeof(S));
     store(f(load<W>(in)), res);
     std::memcpy(out + i, res, rest * sizeof(S));
@@ -65,7 +67,9 @@ void map2(S const* a, S const* b, S* out, std::size_t n, F f) noexcept {
   for (; i + L <= n; i += L)
     store(f(load<W>(a + i), load<W>(b + i)), out + i);
   if (std::size_t const rest = n - i; rest != 0) {
-    alignas(64) S in_a[L] = {}, in_b[L] = {}, res[L];
+    alignas(64) S in_a[L], in_b[L], res[L];
+    std::fill(in_a, in_a + L, S(1));
+    std::fill(in_b, in_b + L, S(1));
     std::memcpy(in_a, a + i, rest * sizeof(S));
     std::memcpy(in_b, b + i, rest * sizeof(S));
     store(f(load<W>(in_a), load<W>(in_b)), res);
@@ -84,7 +88,8 @@ void sincos_kernel(S const* x, S* sin_out, S* cos_out, std::size_t n) noexcept {
     store(r.cos, cos_out + i);
   }
   if (std::size_t const rest = n - i; rest != 0) {
-    alignas(64) S in[L] = {}, s[L], c[L];
+    alignas(64) S in[L], s[L], c[L];
+    std::fill(in, in + L, S(1));
     std::memcpy(in, x + i, rest * sizeof(S));
     auto const r = plume::sincos(load<W>(in));
     store(r.sin, s);

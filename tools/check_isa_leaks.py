@@ -2,8 +2,9 @@
 """check_isa_leaks.py <programs or libraries...> --objects <isolated kernel objects...>
 
 The dispatch build's safety check: in a binary built with PLUME_DISPATCH=ON, every function
-that uses an AVX instruction (VEX or EVEX encoded: a mnemonic starting with 'v', or a ymm, zmm
-or mask register) must come from one of the isolated per-ISA kernel objects, whose code runs
+that uses an instruction beyond sse2 (VEX or EVEX encoded: a mnemonic starting with 'v', a
+ymm, zmm or mask register; or one of the SSSE3/SSE4/POPCNT instructions the avx2 flags also
+enable, listed below) must come from one of the isolated per-ISA kernel objects, whose code runs
 only after the dispatch chose that set. A function outside them with such an instruction
 would fault on a CPU without AVX (the classic way: an inline function compiled with -mavx2
 that the linker kept for the baseline's calls). Exit 1 and the list of offenders if any.
@@ -33,7 +34,10 @@ def avx_functions(binary):
         if not m or fn is None:
             continue
         mnem, ops = m.group(1), m.group(2)
-        if (mnem.startswith("v") and mnem not in ("verr", "verw")) or re.search(
+        if (mnem.startswith("v") and mnem not in ("verr", "verw")) or mnem in (
+                "popcnt", "crc32", "crc32b", "crc32w", "crc32l", "crc32q", "pcmpestri",
+                "pcmpistri", "pcmpestrm", "pcmpistrm", "ptest", "pshufb", "pblendvb",
+                "blendvps", "blendvpd", "roundps", "roundpd", "roundss", "roundsd") or re.search(
                 r"%(ymm|zmm|k[0-7])\b", ops):
             found.setdefault(fn, f"{mnem} {ops}".strip())
     return found

@@ -17,7 +17,8 @@
 //                World::ray_cast after set_isa(<isa>), for each set the binary carries and
 //                this CPU runs
 // The overhead of dispatch on <isa> is dispatched/<isa> in the dispatch build against
-// static/<isa> in the <isa> build (bench/report.sh runs both).
+// static/<isa> in the <isa> build (docs/performance.md, "Dispatch", has the commands; the width
+// report does not run the dispatch build yet).
 #include <plume/dispatch.hpp>
 #include <plume/numerics.hpp>
 #include <plume/world.hpp>

@@ -3,7 +3,7 @@
 //
 //   Isa, set_isa, active_isa, best_isa, cpu_has, compiled_isas   (numerics/isa.hpp)
 //   sin, cos, ..., pow, sincos over std::span; SpanError          (numerics/spans.hpp)
-//   World::step                                                   (solver/world/world.hpp)
+//   World::step, the batch World::ray_cast and World::shape_cast  (solver/world/world.hpp)
 #pragma once
 
 #include <plume/numerics/isa.hpp>

@@ -8,10 +8,12 @@
 
 #include <bit>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <random>
 #include <string>
+#include <unistd.h>
 #include <vector>
 
 using namespace plume;
@@ -220,7 +222,7 @@ TEST_CASE("dispatch: what a CPU runs needs its features and the OS's register st
           "[dispatch]") {
   detail::CpuFeatures full;
   full.sse2 = full.sse3 = full.ssse3 = full.sse41 = full.sse42 = full.popcnt = true;
-  full.xsave = full.osxsave = full.avx = full.avx2 = true;
+  full.xsave = full.osxsave = full.avx = full.avx2 = full.fma = full.f16c = true;
   full.avx512f = full.avx512cd = full.avx512dq = full.avx512bw = full.avx512vl = true;
   full.xcr0 = 0xe7; // x87, SSE, AVX, opmask, ZMM high halves, ZMM16-31
   CHECK(detail::cpu_runs(full, Isa::avx512));
@@ -256,8 +258,10 @@ TEST_CASE("dispatch: what a CPU runs needs its features and the OS's register st
     CHECK_FALSE(detail::cpu_runs(cpu, Isa::avx512));
   }
   bool detail::CpuFeatures::*const avx512_needs[] = {
-      &detail::CpuFeatures::avx512f, &detail::CpuFeatures::avx512cd, &detail::CpuFeatures::avx512dq,
-      &detail::CpuFeatures::avx512bw, &detail::CpuFeatures::avx512vl};
+      &detail::CpuFeatures::fma,      &detail::CpuFeatures::f16c,
+      &detail::CpuFeatures::avx512f,  &detail::CpuFeatures::avx512cd,
+      &detail::CpuFeatures::avx512dq, &detail::CpuFeatures::avx512bw,
+      &detail::CpuFeatures::avx512vl};
   for (auto const f : avx512_needs) {
     detail::CpuFeatures cpu = full;
     cpu.*f = false;
@@ -310,12 +314,34 @@ TEST_CASE("dispatch: the environment's choice", "[dispatch]") {
 TEST_CASE("dispatch: PLUME_ISA in the environment picks the set", "[dispatch_env]") {
   char const* value = std::getenv("PLUME_ISA");
   REQUIRE(value != nullptr);
-  Isa const active = active_isa(); // the process's first call
+  // The process's first call reads the variable; its warning (if any) goes to stderr, caught
+  // here in a file.
+  std::FILE* caught = std::tmpfile();
+  REQUIRE(caught != nullptr);
+  std::fflush(stderr);
+  int const saved = dup(2);
+  dup2(fileno(caught), 2);
+  Isa const active = active_isa();
+  std::fflush(stderr);
+  dup2(saved, 2);
+  close(saved);
+  std::rewind(caught);
+  std::string warning;
+  for (int c; (c = std::fgetc(caught)) != EOF;)
+    warning += char(c);
+  std::fclose(caught);
+  CAPTURE(value, warning);
   auto const wanted = isa_from_name(value);
-  if (wanted && carried(*wanted) && cpu_has(*wanted))
+  if (wanted && carried(*wanted) && cpu_has(*wanted)) {
     CHECK(active == *wanted);
-  else
+    CHECK(warning.empty());
+  } else {
     CHECK(active == best_isa());
+    CHECK(warning.find("refused") != std::string::npos);
+  }
+  // Read once: a later change of the variable changes nothing.
+  setenv("PLUME_ISA", "sse2", 1);
+  CHECK(active_isa() == active);
 }
 
 TEST_CASE("dispatch: bad spans are refused and nothing is written", "[dispatch]") {

@@ -8,6 +8,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <optional>
@@ -20,13 +21,62 @@ using namespace plume;
 
 namespace {
 
-// Boxes in a pyramid, a ball thrown at it, a chain and a ragdoll (contacts, joints and sleep
-// all in the step), stepped `steps` times; stepper(world) advances one step.
+// Level geometry that baseline code builds and every set's kernels read: a bumpy 24 x 24 m
+// triangle mesh (a real mesh tree and triangle blocks), a height field beside it, and a row of
+// 40 static boxes (enough for the broad phase's wide copy of the static tree). A layout that
+// differed between sets (the mesh's tree and blocks did, before f32xS) crashes or changes bits.
+void add_level(World& world) {
+  int const n = 24;
+  std::vector<Vec3> v;
+  std::vector<std::uint32_t> idx;
+  for (int z = 0; z <= n; ++z)
+    for (int x = 0; x <= n; ++x)
+      v.push_back({float(x) - 12.0f, 0.15f * std::sin(0.9f * float(x)) * std::cos(0.7f * float(z)),
+                   float(z) - 12.0f});
+  for (int z = 0; z < n; ++z)
+    for (int x = 0; x < n; ++x) {
+      std::uint32_t const a = std::uint32_t(z * (n + 1) + x), b = a + 1,
+                          c = a + std::uint32_t(n + 1), d = c + 1;
+      idx.insert(idx.end(), {a, c, b, b, c, d});
+    }
+  auto mesh = TriangleMesh::build(v, idx);
+  REQUIRE(mesh.ok());
+  REQUIRE(world.create_body(
+      {.type = BodyType::static_body,
+       .shape = MeshShape{std::make_shared<TriangleMesh const>(std::move(mesh.mesh))}}));
+  std::vector<float> heights(17 * 17);
+  for (std::size_t i = 0; i < heights.size(); ++i)
+    heights[i] = 0.2f * std::sin(0.5f * float(i));
+  auto field = HeightField::build(17, 17, heights, 1.0f, 1.0f);
+  REQUIRE(field.ok());
+  REQUIRE(world.create_body(
+      {.type = BodyType::static_body,
+       .pose = Iso3::from_translation({14.0f, 0.0f, -8.0f}),
+       .shape = HeightFieldShape{std::make_shared<HeightField const>(std::move(field.field))}}));
+  for (int i = 0; i < 40; ++i)
+    REQUIRE(
+        world.create_body({.type = BodyType::static_body,
+                           .pose = Iso3::from_translation({-11.5f + 0.6f * float(i), 0.3f, 11.0f}),
+                           .shape = Cuboid{{0.25f, 0.3f, 0.25f}}}));
+}
+
+// Boxes in a pyramid on the level, a ball thrown at it, a chain, a ragdoll, and boxes and
+// balls dropped on the mesh, the height field and the row of static boxes (contacts, mesh and
+// field contacts, joints and sleep all in the step), stepped `steps` times; stepper(world)
+// advances one step.
 template <class Step>
 std::vector<std::uint64_t> run_scene(Step stepper, int steps) {
   World world;
-  scenes::add_ground(world);
+  add_level(world);
   scenes::add_box_pyramid(world, 6);
+  for (int i = 0; i < 6; ++i) {
+    scenes::add_ball(world, {-9.0f + 3.0f * float(i), 1.5f, -6.0f}, 0.3f);
+    REQUIRE(world.create_body({.pose = Iso3::from_translation({14.5f + float(i), 1.2f, -7.0f}),
+                               .shape = Cuboid{{0.3f, 0.3f, 0.3f}}}));
+    REQUIRE(
+        world.create_body({.pose = Iso3::from_translation({-11.0f + 4.0f * float(i), 1.5f, 11.0f}),
+                           .shape = Capsule{0.3f, 0.2f}}));
+  }
   BodyId const ball = scenes::add_ball(world, {-6, 1, 0}, 0.3f);
   (void)world.set_velocity(ball, {12, 2, 0}, {0, 0, 0});
   scenes::add_chain(world, {6, 6, 0}, 8);
@@ -68,10 +118,11 @@ TEST_CASE("dispatch: World::step on every carried set gives the scalar step's bi
 
 namespace {
 
-// A settled scene of boxes, balls and a mesh-free floor: what the batch queries run against.
+// The level (add_level: mesh, height field, static boxes) with a pyramid and balls on it,
+// settled: what the batch queries run against.
 World query_scene() {
   World world;
-  scenes::add_ground(world);
+  add_level(world);
   scenes::add_box_pyramid(world, 5);
   for (int i = 0; i < 12; ++i)
     scenes::add_ball(world, {-8.0f + 1.5f * float(i), 0.4f, -3}, 0.4f);
@@ -84,8 +135,8 @@ template <class H>
 std::string bits(std::optional<H> const& h) {
   if (!h) return "miss";
   std::string b(sizeof(H), '\0');
-  H c{};
-  // Field by field (padding is not compared).
+  H c;
+  std::memset(static_cast<void*>(&c), 0, sizeof(H)); // padding zero, then field by field
   c.body = h->body;
   c.toi = h->toi;
   c.point = h->point;
@@ -105,9 +156,11 @@ TEST_CASE("dispatch: batch ray and shape casts on every carried set give the sin
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u(-10.0f, 10.0f), up(0.1f, 8.0f);
   std::vector<Ray3> rays;
-  for (int i = 0; i < 1031; ++i) // a fan from a few origins, then scattered rays
-    rays.push_back(i < 512 ? Ray3{{0, 6, 12}, Vec3{u(rng), u(rng) - 8.0f, -12.0f}}
-                           : Ray3{{u(rng), up(rng), u(rng)}, Vec3{u(rng), u(rng), u(rng)}});
+  for (int i = 0; i < 1031; ++i) // a fan from a few origins, rays down at the level, scattered
+    rays.push_back(i < 512   ? Ray3{{0, 6, 12}, Vec3{u(rng), u(rng) - 8.0f, -12.0f}}
+                   : i < 768 ? Ray3{{1.3f * u(rng), 5.0f, 1.3f * u(rng)},
+                                    Vec3{0.1f * u(rng), -1.0f, 0.1f * u(rng)}}
+                             : Ray3{{u(rng), up(rng), u(rng)}, Vec3{u(rng), u(rng), u(rng)}});
   std::vector<BodyShape> shapes;
   std::vector<Iso3> poses;
   std::vector<Vec3> motions;

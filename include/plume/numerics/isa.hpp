@@ -7,13 +7,13 @@
 // operating system included (AVX and AVX-512 need the OS to save their registers, which
 // CPUID's OSXSAVE and XCR0 report). Any other build carries one set, its own (PLUME_SIMD;
 // `native` counts as the widest family it enables), and the same entry points run that one.
-// The dispatched entry points: World::step, and the math functions over spans
-// (<plume/numerics/spans.hpp>).
+// The dispatched entry points: World::step, the batch World::ray_cast and World::shape_cast,
+// and the math functions over spans (<plume/numerics/spans.hpp>).
 //
 // Choosing:
 //  - by default, best_isa(): the widest carried set the CPU runs;
 //  - the environment variable PLUME_ISA=sse2|avx2|avx512 (read once, at the first call of a
-//    dispatched entry point or of a function here): a set that is unknown, not carried or not
+//    dispatched entry point, active_isa or set_isa): a set that is unknown, not carried or not
 //    supported by this CPU is refused with one warning on stderr, and the default is used;
 //  - set_isa(isa) at any time: refuses (returns the reason, changes nothing) a set that is not
 //    carried or that the CPU lacks. A call that has started finishes on the set it began with,
@@ -42,7 +42,8 @@ std::optional<Isa> isa_from_name(std::string_view name) noexcept;
 
 /// True if this CPU and its operating system run code compiled for `isa`: every CPUID
 /// feature the build's flags for it enable (avx2: SSE3..SSE4.2, POPCNT, XSAVE, AVX, AVX2;
-/// avx512: those and AVX-512 F, CD, DQ, BW, VL), and for avx2/avx512 the OS saving the
+/// avx512: those, FMA and F16C, which clang's -mavx512f enables, and AVX-512 F, CD, DQ, BW,
+/// VL), and for avx2/avx512 the OS saving the
 /// registers (XCR0's SSE and AVX state; for avx512 also the opmask and both ZMM parts).
 bool cpu_has(Isa isa) noexcept;
 
@@ -68,7 +69,7 @@ namespace detail {
 /// What CPUID and XGETBV report, reduced to what cpu_has needs (tests feed made-up CPUs).
 struct CpuFeatures {
   bool sse2 = false, sse3 = false, ssse3 = false, sse41 = false, sse42 = false, popcnt = false;
-  bool xsave = false, osxsave = false, avx = false, avx2 = false;
+  bool xsave = false, osxsave = false, avx = false, avx2 = false, fma = false, f16c = false;
   bool avx512f = false, avx512cd = false, avx512dq = false, avx512bw = false, avx512vl = false;
   std::uint64_t xcr0 = 0; ///< 0 when OSXSAVE is off (XGETBV not allowed)
 };
