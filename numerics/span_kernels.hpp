@@ -1,8 +1,8 @@
-// solver/dispatch/kernel_table.hpp - the table of array kernels that one instruction set provides
-// (private to the dispatch module).
+// numerics/span_kernels.hpp - the table of the span kernels that one instruction set provides
+// (private to the numerics floor).
 //
-// kernels.cpp fills one table per instruction set it is compiled for; runtime.cpp picks a
-// table at run time and calls through it. The function lists are X-macros so that the table,
+// span_kernels.cpp fills one table per instruction set it is compiled for; isa.cpp hands out
+// the active one and spans.cpp calls through it. The function lists are X-macros so that the table,
 // its filling and the public span functions come from one list.
 #pragma once
 

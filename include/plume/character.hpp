@@ -11,6 +11,8 @@
 //   project_velocity, project_velocity_bruteforce        (solver/character/velocity_projection.hpp)
 //     GVelocityProjectionConfig<S>  VelocityProjectionConfig, DVelocityProjectionConfig
 //     GVelocityProjection<Vec>      VelocityProjection3, VelocityProjection2 (results)
+//   project_velocities: many float projections in one call, in lanes (compiled; dispatched
+//     per instruction set)  ProjectVelocitiesError      (solver/character/project_velocities.hpp)
 //   GPlaneSet3<T>, GPlaneSet2<T>  PlaneSet3, PlaneSet2, DPlaneSet3, DPlaneSet2
 //     GPlaneSet<Vec>, GPlaneSetConfig<S>  PlaneSetConfig, DPlaneSetConfig
 //                                                        (solver/character/plane_set.hpp)
@@ -30,4 +32,5 @@
 #include <plume/solver/character/depenetration.hpp>
 #include <plume/solver/character/move_and_slide.hpp>
 #include <plume/solver/character/plane_set.hpp>
+#include <plume/solver/character/project_velocities.hpp>
 #include <plume/solver/character/velocity_projection.hpp>

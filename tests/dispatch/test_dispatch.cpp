@@ -1,8 +1,11 @@
 // The dispatched array entry points (plume/dispatch.hpp): every function on every instruction
 // set this binary carries and this CPU runs, against the scalar templates element by element;
 // the choice of instruction set (CPU features, the environment, set_isa); bad spans.
-#include <plume/dispatch.hpp>
+#include "each_isa.hpp"
+
 #include <plume/numerics.hpp>
+#include <plume/numerics/isa.hpp>
+#include <plume/numerics/spans.hpp>
 
 #include <catch2/catch.hpp>
 
@@ -150,35 +153,21 @@ bool carried(Isa isa) {
   return false;
 }
 
-// Restores the default choice when a test that switched ends.
-struct RestoreBest {
-  ~RestoreBest() { (void)set_isa(best_isa()); }
-};
-
 } // namespace
 
 TEST_CASE("dispatch: every carried instruction set gives the scalar functions' bits",
           "[dispatch]") {
-  RestoreBest restore;
-  int ran = 0;
-  for (Isa const isa : compiled_isas()) {
-    if (!cpu_has(isa)) {
-      WARN("skipped " << isa_name(isa) << ": this CPU (or its OS) lacks it");
-      continue;
-    }
-    REQUIRE(set_isa(isa) == IsaError::none);
-    REQUIRE(active_isa() == isa);
+  int const ran = test::for_each_runnable_isa([](Isa isa) {
     unsigned const lanes[] = {1, 4, 8, 16};
     CHECK(detail::active_f32_lanes() == lanes[static_cast<int>(isa)]);
     check_all_functions<float>(isa);
     check_all_functions<double>(isa);
-    ++ran;
-  }
+  });
   CHECK(ran >= 1);
 }
 
 TEST_CASE("dispatch: the list of sets, the best one and set_isa's refusals", "[dispatch]") {
-  RestoreBest restore;
+  test::RestoreBest const restore;
   auto const list = compiled_isas();
   REQUIRE(!list.empty());
   for (std::size_t i = 1; i < list.size(); ++i)

@@ -1,5 +1,7 @@
 // World::step through the dispatch: every carried instruction set this CPU runs steps the same
 // scenes to the same bits, equal to the scalar step (the determinism contract), in one process.
+#include "each_isa.hpp"
+
 #include <plume/dispatch.hpp>
 #include <plume/world.hpp>
 
@@ -89,30 +91,17 @@ std::vector<std::uint64_t> run_scene(Step stepper, int steps) {
   return hashes;
 }
 
-struct RestoreBest {
-  ~RestoreBest() { (void)set_isa(best_isa()); }
-};
-
 } // namespace
 
 TEST_CASE("dispatch: World::step on every carried set gives the scalar step's bits", "[dispatch]") {
-  RestoreBest restore;
   int const steps = 120;
   auto const scalar = run_scene([](World& w) { w.step_with<float>(1.0f / 60.0f); }, steps);
   REQUIRE(scalar.size() == 6);
-  int ran = 0;
-  for (Isa const isa : compiled_isas()) {
-    if (!cpu_has(isa)) {
-      WARN("skipped " << isa_name(isa) << ": this CPU (or its OS) lacks it");
-      continue;
-    }
-    REQUIRE(set_isa(isa) == IsaError::none);
-    INFO("isa " << isa_name(isa));
+  int const ran = test::for_each_runnable_isa([&](Isa isa) {
     CHECK(detail::world_kernels_isa() == isa);
     auto const dispatched = run_scene([](World& w) { w.step(1.0f / 60.0f); }, steps);
     CHECK(dispatched == scalar);
-    ++ran;
-  }
+  });
   CHECK(ran >= 1);
 }
 
@@ -151,7 +140,6 @@ std::string bits(std::optional<H> const& h) {
 
 TEST_CASE("dispatch: batch ray and shape casts on every carried set give the single forms' bits",
           "[dispatch]") {
-  RestoreBest restore;
   World const world = query_scene();
   std::mt19937 rng(7);
   std::uniform_real_distribution<float> u(-10.0f, 10.0f), up(0.1f, 8.0f);
@@ -183,11 +171,7 @@ TEST_CASE("dispatch: batch ray and shape casts on every carried set give the sin
       std::count_if(ray_ref.begin(), ray_ref.end(), [](auto const& b) { return b != "miss"; }));
   REQUIRE(hits > rays.size() / 4); // the rays meet the scene
 
-  int ran = 0;
-  for (Isa const isa : compiled_isas()) {
-    if (!cpu_has(isa)) continue;
-    REQUIRE(set_isa(isa) == IsaError::none);
-    INFO("isa " << isa_name(isa));
+  int const ran = test::for_each_runnable_isa([&](Isa) {
     std::vector<std::optional<WorldRayHit>> ray_out(rays.size());
     world.ray_cast(rays, 50.0f, ray_out);
     std::vector<std::optional<WorldShapeHit>> shape_out(shapes.size());
@@ -204,7 +188,6 @@ TEST_CASE("dispatch: batch ray and shape casts on every carried set give the sin
     CHECK_THROWS_AS(world.ray_cast(rays, 50.0f, short_out), std::invalid_argument);
     CHECK(std::none_of(short_out.begin(), short_out.end(),
                        [](auto const& h) { return h.has_value(); }));
-    ++ran;
-  }
+  });
   CHECK(ran >= 1);
 }

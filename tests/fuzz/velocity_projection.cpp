@@ -17,7 +17,10 @@
 //    epsilon, and (unit normals, |v| <= 1e18) no farther than |u* - v| + epsilon;
 //  - plane sets: unit normals, at most max_planes of them, a zero or non-finite normal
 //    rejected with the set unchanged;
-//  - wide lanes (f32x8): lane l equals the scalar call on lane l's inputs bit for bit.
+//  - wide lanes (f32x8): lane l equals the scalar call on lane l's inputs bit for bit;
+//  - the batch (project_velocities, solver/character/project_velocities.hpp): each problem the
+//    single call's bits, multipliers included; broken lengths or offsets refused with the
+//    documented error and nothing written.
 #include "fuzz_input.hpp"
 
 #include <plume/math/pack.hpp>
@@ -25,6 +28,7 @@
 #include <plume/math/vec3.hpp>
 #include <plume/numerics.hpp>
 #include <plume/solver/character/plane_set.hpp>
+#include <plume/solver/character/project_velocities.hpp>
 #include <plume/solver/character/velocity_projection.hpp>
 
 #include <algorithm>
@@ -372,6 +376,67 @@ void check_lanes(Input& in, V const& v, std::vector<V> const& ns,
   }
 }
 
+/// project_velocities (the batch): problems made of v scaled and windows of ns, in offsets the
+/// input may break; a well-formed batch gives each problem the single call's bits, a broken
+/// one its documented error with nothing written.
+template <class V>
+void check_batch(Input& in, V const& v, std::vector<V> const& ns,
+                 GVelocityProjectionConfig<float> const& cfg) {
+  std::size_t const problems = std::size_t(in.integer(1, 20));
+  std::vector<V> vs, normals;
+  std::vector<std::uint32_t> offsets{0};
+  for (std::size_t p = 0; p < problems; ++p) {
+    vs.push_back(v * in.real(-2.0f, 2.0f));
+    std::size_t const from = ns.empty() ? 0 : std::size_t(in.integer(0, int(ns.size())));
+    std::size_t const count = std::size_t(in.integer(0, int(ns.size() - from)));
+    normals.insert(normals.end(), ns.begin() + long(from), ns.begin() + long(from + count));
+    offsets.push_back(std::uint32_t(normals.size()));
+  }
+  std::uint8_t const damage = in.byte();
+  using E = ProjectVelocitiesError;
+  std::size_t out_size = problems, lambda_size = normals.size();
+  if ((damage & 7) == 1) out_size = problems - 1;                              // short output
+  if ((damage & 7) == 2 && !normals.empty()) lambda_size = normals.size() - 1; // short lambda
+  if ((damage & 7) == 3) // a raised offset: past the end, or decreasing after it, or harmless
+    offsets[std::size_t(in.integer(0, int(problems)))] += std::uint32_t(in.integer(1, 3));
+  if ((damage & 7) == 4) offsets.pop_back();
+  // The documented rule, lengths first (an empty lambda_out asks for no multipliers).
+  E want = E::none;
+  if (out_size != problems || (lambda_size != 0 && lambda_size != normals.size()) ||
+      offsets.size() != problems + 1)
+    want = E::length_mismatch;
+  else if (offsets.front() != 0 || offsets.back() != normals.size() ||
+           !std::is_sorted(offsets.begin(), offsets.end()))
+    want = E::bad_offsets;
+  GVelocityProjection<V> sentinel;
+  sentinel.steps = -1.0f;
+  std::vector<GVelocityProjection<V>> out(out_size, sentinel);
+  std::vector<float> lambda(lambda_size, -1.0f);
+  E const got = project_velocities(std::span<V const>(vs), std::span<V const>(normals), offsets,
+                                   std::span<GVelocityProjection<V>>(out), lambda, cfg);
+  PLUME_FUZZ_CHECK(got == want);
+  if (got != E::none) {
+    for (auto const& o : out)
+      PLUME_FUZZ_CHECK(o.steps == -1.0f);
+    for (float l : lambda)
+      PLUME_FUZZ_CHECK(l == -1.0f);
+    return;
+  }
+  for (std::size_t p = 0; p < problems; ++p) {
+    std::size_t const a = offsets[p], k = offsets[p + 1] - a;
+    std::vector<float> sl(k);
+    auto const s = project_velocity(vs[p], std::span<V const>(normals.data() + a, k),
+                                    std::span<float>(sl), cfg);
+    PLUME_FUZZ_CHECK(same_bits(out[p].velocity, s.velocity));
+    PLUME_FUZZ_CHECK(out[p].steps == s.steps);
+    PLUME_FUZZ_CHECK(bool(out[p].converged) == bool(s.converged));
+    PLUME_FUZZ_CHECK(bool(out[p].invalid_input) == bool(s.invalid_input));
+    for (std::size_t i = 0; i < k && !lambda.empty(); ++i)
+      PLUME_FUZZ_CHECK(std::bit_cast<std::uint32_t>(lambda[a + i]) ==
+                       std::bit_cast<std::uint32_t>(sl[i]));
+  }
+}
+
 template <class V>
 void run(Input& in) {
   bool const hostile = (in.byte() & 7) == 0;
@@ -390,6 +455,7 @@ void run(Input& in) {
   }
   check_projection(v, ns, unit_set, cfg);
   if (opts & 16) check_lanes(in, v, ns, cfg);
+  if (opts & 32) check_batch(in, v, ns, cfg);
 }
 
 } // namespace
