@@ -15,6 +15,7 @@
 
 #include <cmath>
 
+#include <algorithm>
 #include <bit>
 #include <cinttypes>
 #include <cstdio>
@@ -23,7 +24,9 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 using namespace plume;
@@ -38,6 +41,19 @@ PLUME_INLINE T mul_add_self(T a, T b) noexcept {
 } // namespace plume
 
 namespace {
+
+/// The element "type" of the batteries that run the dispatched entry points (World::step, the
+/// batch casts, the span functions, project_velocities) with the instruction set set_isa chose.
+struct dispatched {};
+
+/// One step of 1/60 s: World::step_with<T>, or World::step for `dispatched`.
+template <class T>
+void advance(World& w) {
+  if constexpr (std::is_same_v<T, dispatched>)
+    w.step(1.0f / 60.0f);
+  else
+    w.template step_with<T>(1.0f / 60.0f);
+}
 
 struct fnv {
   std::uint64_t h = 1469598103934665603ull;
@@ -403,7 +419,7 @@ std::uint64_t world_battery() {
   pusher.linear_velocity = {1.0f, 0.0f, 0.0f};
   w.create_body(pusher);
   for (int s = 0; s < 150; ++s)
-    w.template step_with<T>(1.0f / 60.0f);
+    advance<T>(w);
   return w.state_hash();
 }
 
@@ -466,7 +482,7 @@ std::uint64_t joint_battery() {
       for (JointId j : car.joints)
         w.set_motor_targets(j, 2.0f, 0.0f);
     if (s == 90) w.set_velocity(weight, {0.0f, -30.0f, 0.0f}, {}); // breaks its weld
-    w.template step_with<T>(1.0f / 60.0f);
+    advance<T>(w);
     broken += w.events().joint_broken.size() * std::uint64_t(s + 1);
   }
   return (w.state_hash() ^ broken) * 1099511628211ull;
@@ -482,7 +498,7 @@ std::uint64_t world_edit_battery() {
   std::vector<BodyId> const boxes = add_box_pyramid(w, 5);
   stream st;
   for (int s = 0; s < 40; ++s)
-    w.template step_with<T>(1.0f / 60.0f);
+    advance<T>(w);
   for (std::size_t k = 0; k < boxes.size(); k += 3)
     w.destroy_body(boxes[k]);
   // Standalone colliders take freed slots: a tilted slab, a post and a trigger.
@@ -496,7 +512,7 @@ std::uint64_t world_edit_battery() {
   w.create_collider(
       {.pose = Iso3::from_translation({0.0f, 4.0f, 0.0f}), .shape = Sphere{1.0f}, .sensor = true});
   for (int s = 0; s < 30; ++s)
-    w.template step_with<T>(1.0f / 60.0f);
+    advance<T>(w);
   w.set_collider_pose(slab, Iso3{Quat::from_rotation_z(-0.2f), {-0.5f, 4.5f, 0.2f}});
   w.destroy_collider(post);
   for (int i = 0; i < 6; ++i) {
@@ -508,7 +524,7 @@ std::uint64_t world_edit_battery() {
     w.create_body(def);
   }
   for (int s = 0; s < 90; ++s)
-    w.template step_with<T>(1.0f / 60.0f);
+    advance<T>(w);
   std::uint64_t h = w.state_hash();
   for (int k = 0; k < 16; ++k) {
     auto const hit =
@@ -636,7 +652,7 @@ std::uint64_t world_mesh_battery() {
   }
   std::size_t most = 0; // the scene must hold a pair with several contacts
   for (int s = 0; s < 120; ++s) {
-    w.template step_with<T>(1.0f / 60.0f);
+    advance<T>(w);
     std::map<std::uint64_t, std::size_t> per_pair;
     for (Contact const& c : w.contacts())
       most = std::max(most, ++per_pair[body_pair_key(c.body_a, c.body_b)]);
@@ -661,7 +677,153 @@ std::uint64_t world_mesh_battery() {
                       return true;
                     });
   }
+  // The batch forms: a fan of 37 rays and 19 shape casts of three kinds, lanes_v<T> at a time
+  // (or the dispatched width).
+  std::vector<Ray3> rays;
+  for (int k = 0; k < 37; ++k)
+    rays.push_back({{0.5f * float(k) - 9.0f, 4.0f, 0.2f * float(k % 7) - 6.5f},
+                    {0.02f * float(k % 5) - 0.04f, -1.0f, 0.03f * float(k % 3)}});
+  std::vector<BodyShape> shapes;
+  std::vector<Iso3> poses;
+  std::vector<Vec3> motions;
+  for (int k = 0; k < 19; ++k) {
+    if (k % 3 == 0)
+      shapes.emplace_back(Sphere{0.25f});
+    else if (k % 3 == 1)
+      shapes.emplace_back(Capsule{0.3f, 0.2f});
+    else
+      shapes.emplace_back(Cuboid{{0.2f, 0.15f, 0.3f}});
+    poses.push_back(
+        Iso3{st.quat<float>(), {0.9f * float(k) - 9.0f, 3.0f, 0.3f * float(k % 4) - 5.0f}});
+    motions.push_back({0.1f * float(k % 3), -6.0f, 0.05f});
+  }
+  std::vector<std::optional<WorldRayHit>> ray_hits(rays.size());
+  std::vector<std::optional<WorldShapeHit>> shape_hits(shapes.size());
+  if constexpr (std::is_same_v<T, dispatched>) {
+    w.ray_cast(rays, 50.0f, ray_hits);
+    w.shape_cast(shapes, poses, motions, ShapeCastConfig{}, shape_hits);
+  } else {
+    w.template ray_cast_with<T>(rays, 50.0f, ray_hits);
+    w.template shape_cast_with<T>(shapes, poses, motions, ShapeCastConfig{}, shape_hits);
+  }
+  for (auto const& r : ray_hits) {
+    mix(r ? r->toi : -1.0f);
+    mix(r ? r->normal.y : -1.0f);
+  }
+  for (auto const& c : shape_hits) {
+    mix(c ? c->toi : -1.0f);
+    mix(c ? c->normal.y : -1.0f);
+    mix(c ? c->point.x : -1.0f);
+  }
   return h;
+}
+
+/// The math functions over spans (numerics/spans.hpp) on the battery's inputs, against the
+/// same functions element by element: T is S (the templates, one element at a time) or
+/// `dispatched` (the span calls of the chosen set).
+template <class T, class S>
+std::uint64_t spans_battery() {
+  fnv h;
+  auto const x = inputs<S>(10), y = inputs<S>(3);
+  std::vector<S> y2(y.rbegin(), y.rend()), out(x.size()), out2(x.size());
+  auto const add = [&](std::vector<S> const& v) {
+    for (S e : v)
+      h.add(e);
+  };
+#define U(fn)                                                                                      \
+  if constexpr (std::is_same_v<T, dispatched>)                                                     \
+    (void)plume::fn(std::span<S const>(x), std::span<S>(out));                                     \
+  else                                                                                             \
+    std::transform(x.begin(), x.end(), out.begin(), [](S v) { return plume::fn(v); });             \
+  add(out)
+#define B(fn)                                                                                      \
+  if constexpr (std::is_same_v<T, dispatched>)                                                     \
+    (void)plume::fn(std::span<S const>(x), std::span<S const>(y2), std::span<S>(out));             \
+  else                                                                                             \
+    std::transform(x.begin(), x.end(), y2.begin(), out.begin(),                                    \
+                   [](S a, S b) { return plume::fn(a, b); });                                      \
+  add(out)
+  U(sin);
+  U(cos);
+  U(tan);
+  U(asin);
+  U(acos);
+  U(atan);
+  U(exp);
+  U(exp2);
+  U(expm1);
+  U(log);
+  U(log2);
+  U(log1p);
+  U(sqrt);
+  B(atan2);
+  B(pow);
+  B(hypot);
+#undef U
+#undef B
+  if constexpr (std::is_same_v<T, dispatched>) {
+    (void)plume::sincos(std::span<S const>(x), std::span<S>(out), std::span<S>(out2));
+  } else {
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      auto const r = plume::sincos(x[i]);
+      out[i] = r.sin;
+      out2[i] = r.cos;
+    }
+  }
+  add(out);
+  add(out2);
+  return h.h;
+}
+
+/// Batches of velocity projections (project_velocities, 3D and 2D, with multipliers) against
+/// the single call problem by problem: T is float or `dispatched`.
+template <class T>
+std::uint64_t projection_batch_battery() {
+  fnv h;
+  stream st;
+  constexpr std::size_t P = 301;
+  auto const run = [&]<class Vec>(Vec) {
+    std::vector<Vec> v, n;
+    std::vector<std::uint32_t> offsets{0};
+    for (std::size_t p = 0; p < P; ++p) {
+      GVec3<float> const a = st.vec3<float>(4);
+      if constexpr (Vec::dim == 3)
+        v.push_back(a);
+      else
+        v.push_back({a.x, a.y});
+      for (std::size_t i = 0; i < (p * 7) % 13; ++i) {
+        GVec3<float> c = st.vec3<float>(1);
+        if (c.dot(a) > 0.0f) c = c * -1.0f; // facing the velocity: planes that bind
+        if constexpr (Vec::dim == 3)
+          n.push_back(c);
+        else
+          n.push_back({c.x, c.y});
+      }
+      offsets.push_back(static_cast<std::uint32_t>(n.size()));
+    }
+    std::vector<GVelocityProjection<Vec>> out(P);
+    std::vector<float> lambda(n.size());
+    if constexpr (std::is_same_v<T, dispatched>) {
+      if (project_velocities(std::span<Vec const>(v), std::span<Vec const>(n), offsets, out,
+                             lambda) != ProjectVelocitiesError::none)
+        std::exit(2);
+    } else {
+      for (std::size_t p = 0; p < P; ++p)
+        out[p] = project_velocity<float>(
+            v[p], std::span<Vec const>(n.data() + offsets[p], offsets[p + 1] - offsets[p]),
+            std::span<float>(lambda.data() + offsets[p], offsets[p + 1] - offsets[p]));
+    }
+    for (auto const& r : out) {
+      h.add(r.velocity.x), h.add(r.velocity.y), h.add(r.steps);
+      if constexpr (Vec::dim == 3) h.add(r.velocity.z);
+      h.add(float(r.converged) + 2.0f * float(r.invalid_input));
+    }
+    for (float l : lambda)
+      h.add(l);
+  };
+  run(Vec3{});
+  run(Vec2{});
+  return h.h;
 }
 
 } // namespace
@@ -704,6 +866,43 @@ int main(int argc, char** argv) {
   battery("world_mesh_f32", f32_widths{}, []<class T>() { return world_mesh_battery<T>(); });
   battery("tree_f32", f32_widths{}, []<class T>() { return tree_battery<T>(); });
   record("contact_f64", contact_battery<double>(), {});
+  record("spans_f32", spans_battery<float, float>(), {});
+  record("spans_f64", spans_battery<double, double>(), {});
+  record("projection_batch_f32", projection_batch_battery<float>(), {});
+  // The dispatched entry points once per instruction set the binary carries (one in a static
+  // build, sse2, avx2 and avx512 in a PLUME_DISPATCH=ON build) and this CPU runs, each against
+  // the scalar hash above: every set gives the same bits, in one process.
+  std::string ran, skipped;
+  for (Isa const isa : compiled_isas()) {
+    if (!cpu_has(isa)) {
+      skipped += ' ';
+      skipped += isa_name(isa);
+      continue;
+    }
+    if (set_isa(isa) != IsaError::none) {
+      std::printf("set_isa(%s) refused a set the CPU runs\n", std::string(isa_name(isa)).c_str());
+      return 1;
+    }
+    ran += ' ';
+    ran += isa_name(isa);
+    auto const same_as = [&](char const* name, std::uint64_t hash) {
+      if (hash == got.at(name)) return;
+      std::printf("ISA MISMATCH in %s: %s hashes %016" PRIx64 ", scalar %016" PRIx64 "\n", name,
+                  std::string(isa_name(isa)).c_str(), hash, got.at(name));
+      lanes_ok = false;
+    };
+    same_as("world_f32", world_battery<dispatched>());
+    same_as("world_edit_f32", world_edit_battery<dispatched>());
+    same_as("joints_f32", joint_battery<dispatched>());
+    same_as("world_mesh_f32", world_mesh_battery<dispatched>());
+    same_as("spans_f32", spans_battery<dispatched, float>());
+    same_as("spans_f64", spans_battery<dispatched, double>());
+    same_as("projection_batch_f32", projection_batch_battery<dispatched>());
+  }
+  (void)set_isa(best_isa());
+  // stderr: stdout is compared across builds, which carry different sets.
+  std::fprintf(stderr, "plume_golden: dispatched batteries ran on%s%s%s\n", ran.c_str(),
+               skipped.empty() ? "" : "; skipped (this CPU lacks them):", skipped.c_str());
   if (argc == 3 && !std::strcmp(argv[1], "--check")) {
     std::ifstream f(argv[2]);
     std::string name, hex;
