@@ -12,6 +12,9 @@ Prints and writes OUT_DIR/width_report.md with two tables:
                     other build, with the speed-up over the scalar build
   within one build  every implementation and width of the WIDEST build, with the ratio to
                     plume x1 measured in the same run (the figure to quote on a noisy machine)
+  dispatched        (with dispatch=RESULT.json files) each dispatched entry point of the
+                    dispatch build, the set chosen by set_isa, against the same kernel in the
+                    static build of that set (plume_bench_dispatch)
 and, when matplotlib is available, OUT_DIR/width_report.png: one panel per floor (the
 benchmark binary's floor), horizontal bars of plume's widths and each peer at its fastest
 width within the WIDEST build, as speed-ups over plume x1 of the same run.
@@ -190,6 +193,46 @@ def draw_chart(plt, within, widest, host, png):
     return True
 
 
+def dispatch_lines(dispatch_paths):
+    """The dispatched column: plume_bench_dispatch's dispatch/<case>/dispatched/<isa> in the
+    dispatch build (one binary, the set chosen by set_isa) against dispatch/<case>/static/<isa>
+    in the static build of that set, measured in the same rounds."""
+    if not dispatch_paths:
+        return []
+    load(dispatch_paths, "dispatch")
+    cases, isas = OrderedDict(), []
+    for name, v in sorted(UNWIDE.get("dispatch", {}).items()):
+        parts = name.split("/")
+        if len(parts) < 4 or parts[0] != "dispatch" or parts[-2] != "dispatched":
+            continue
+        case, isa = "/".join(parts[1:-2]), parts[-1]
+        if isa not in isas:
+            isas.append(isa)
+        static = UNWIDE.get(isa, {}).get(f"dispatch/{case}/static/{isa}")
+        cases.setdefault(case, {})[isa] = (v, static)
+    if not cases:
+        return []
+    canonical = ["scalar", "sse2", "avx2", "avx512"]
+    isas.sort(key=lambda i: canonical.index(i) if i in canonical else len(canonical))
+    lines = ["", "## Dispatched: one binary against the static build of each set (items/s)", "",
+             "Each cell: the dispatch build (PLUME_DISPATCH=ON) with the set chosen by set_isa, "
+             "then the same kernel in the static build of that set, and their ratio "
+             "(dispatched / static; 1.00 is no overhead).", "",
+             "| case | " + " | ".join(f"{i} dispatched / static" for i in isas) + " |",
+             "|" + "---|" * (len(isas) + 1)]
+    for case, row in cases.items():
+        cells = []
+        for i in isas:
+            if i not in row:
+                cells.append("")
+                continue
+            v, static = row[i]
+            cells.append(f"{human(v)} / {human(static)} ({v / static:.2f}x)" if static
+                         else f"{human(v)} / (no static build)")
+        lines.append(f"| {case} | " + " | ".join(cells) + " |")
+    return lines
+
+
 def main():
     if len(sys.argv) < 4:
         print(__doc__)
@@ -242,13 +285,14 @@ def main():
     lines += table_lines(within, cols, lambda case: within[case].get(("plume", 1)),
                          lambda c: f"{c[0]} x{c[1]}")
     # Measures without widths (builds, tree optimisation): items/s in the widest build.
-    unwide = UNWIDE.get(widest, {})
+    unwide = {k: v for k, v in UNWIDE.get(widest, {}).items() if not k.startswith("dispatch/")}
     if unwide:
         lines.append("")
         lines.append(f"## Without widths, {widest} build (items/s)")
         lines.append("")
         lines += ["| benchmark | items/s |", "|---|---|"]
         lines += [f"| {name} | {human(v)} |" for name, v in sorted(unwide.items())]
+    lines += dispatch_lines(by_variant.get("dispatch"))
     text = "\n".join(lines) + "\n"
     print(text)
     with open(os.path.join(out_dir, "width_report.md"), "w") as f:

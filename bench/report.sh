@@ -4,11 +4,14 @@
 #   bash bench/report.sh
 #
 # Installs missing Debian packages (as root), then builds the scalar, sse2, avx2 and avx512
-# variants (those this CPU runs) with their benchmarks in build/report-<variant>, runs every
-# benchmark binary of every build in rounds, and prints two tables:
+# variants (those this CPU runs) with their benchmarks in build/report-<variant> and the
+# dispatch variant's plume_bench_dispatch in build/report-dispatch, runs every benchmark binary
+# of every build in rounds, and prints three tables:
 #   across builds      plume's scalar build (x1) against each wide build at its widest width
 #   within one build   the widest build: every width and the peers (std, Eigen, SLEEF, xsimd)
 #                      with ratios to x1 measured in the same run
+#   dispatched         each dispatched entry point in the one binary, per instruction set,
+#                      against the same kernel in the static build of that set
 # Each figure is the fastest of the rounds (bench/report.py says why). A round runs each
 # benchmark binary in every build one after the other, so the builds compared across are
 # measured seconds apart, and a slow phase of a shared machine (its clock drifts by 20-40%
@@ -37,6 +40,13 @@ for v in "${variants[@]}"; do
   plume_configure "$v" "$dir" -DPLUME_BUILD_TESTS=OFF
   plume_build "$dir" >/dev/null
 done
+# The dispatch build (one binary, kernels per instruction set chosen at run time): only its
+# plume_bench_dispatch, whose dispatched/<isa> figures the report sets beside the static
+# builds' static/<isa> ones.
+ddir=build/report-dispatch
+echo "plume: building the dispatch variant's plume_bench_dispatch in $ddir"
+plume_configure dispatch "$ddir" -DPLUME_BUILD_TESTS=OFF
+cmake --build "$ddir" -j "$(nproc 2>/dev/null || echo 2)" --target plume_bench_dispatch >/dev/null
 rounds=${PLUME_REPORT_ROUNDS:-5}
 for ((r = 1; r <= rounds; r++)); do
   echo "plume: round $r of $rounds"
@@ -46,15 +56,23 @@ for ((r = 1; r <= rounds; r++)); do
     for v in "${variants[@]}"; do
       b=build/report-$v/bench/$name
       [ -x "$b" ] || continue
-      # The peers are measured in the widest build only; the other builds run plume only.
+      # The peers are measured in the widest build only; the other builds run plume only
+      # (plume_bench_dispatch has no peers: every build runs all of it).
       filter=.
-      [ "$v" = "$widest" ] || filter=/plume/
+      [ "$v" = "$widest" ] || [ "$name" = plume_bench_dispatch ] || filter=/plume/
       json="$out/$v.$name.r$r.json"
       "$b" --benchmark_filter="$filter" --benchmark_repetitions="${PLUME_REPORT_REPS:-1}" \
         --benchmark_report_aggregates_only=true --benchmark_min_time="${PLUME_REPORT_MIN_TIME:-0.1}" \
         --benchmark_out="$json" --benchmark_out_format=json >/dev/null
       args+=("$v=$json")
     done
+    if [ "$name" = plume_bench_dispatch ]; then
+      json="$out/dispatch.$name.r$r.json"
+      "$ddir/bench/$name" --benchmark_repetitions="${PLUME_REPORT_REPS:-1}" \
+        --benchmark_report_aggregates_only=true --benchmark_min_time="${PLUME_REPORT_MIN_TIME:-0.1}" \
+        --benchmark_out="$json" --benchmark_out_format=json >/dev/null
+      args+=("dispatch=$json")
+    fi
   done
 done
 py=python3

@@ -13,7 +13,8 @@
 #    a clang build (avx2), tests only;
 # 4. the cross-build determinism check: every deterministic build that ran (g++ and clang)
 #    must print the same golden hashes (each also compares with tests/determinism/golden.txt);
-# 5. every benchmark binary of the scalar and the widest variant, once, with a tiny time budget;
+# 5. every benchmark binary of the scalar and the widest variant, once, with a tiny time budget,
+#    and the dispatch build's plume_bench_dispatch (every set this CPU runs);
 # 6. the generated code of the hot wide kernels (tools/kernel_loops.py): no calls out of line.
 # Every build is a preset of CMakePresets.json (build folder build/ci-<preset>), and which
 # variants this CPU runs is decided in one place, tools/cpu_gate.cpp (via tools/variants.sh).
@@ -99,6 +100,10 @@ for v in "${variants[@]}"; do
     failed+=("$v build")
     continue
   fi
+  # The dispatch build's one benchmark, the width report's dispatched column (stage 5 runs it).
+  if [ "$preset" = dispatch ] && ! cmake --build "build/ci-$v" -j "$jobs" --target plume_bench_dispatch; then
+    failed+=("$v plume_bench_dispatch build")
+  fi
   step "variant $v: tests"
   if [ "$preset" = dispatch ]; then
     PLUME_ISA=sse2 ctest --test-dir "build/ci-$v" --output-on-failure -j "$jobs" -E dispatch ||
@@ -181,9 +186,11 @@ done
 step "benchmarks, once each"
 # The scalar build and the widest build this CPU runs (found above): every benchmark binary
 # once. The variants between compile the same benchmark sources, so running them would add
-# time and no code path.
+# time and no code path; the sse2 variant (the dispatch build) has built only its own,
+# plume_bench_dispatch.
 bench_variants=(scalar)
 [ "$widest" != scalar ] && bench_variants+=("$widest")
+[ "$widest" != sse2 ] && bench_variants+=(sse2) # the dispatch build: plume_bench_dispatch
 for v in "${bench_variants[@]}"; do
   for b in build/ci-$v/bench/plume_bench_*; do
     [ -x "$b" ] || continue

@@ -5,7 +5,9 @@
 // plume_bench_numerics); items = evaluations. World: dispatch/world_step/pyramid15/... steps
 // the settled 15-layer pyramid of plume_bench_world (items = steps);
 // dispatch/world_rays/4096/... casts 4,096 rays into it through the batch World::ray_cast
-// (items = rays). Names are
+// (items = rays); dispatch/project_velocities/1024/... projects 1,024 velocities against 0 to 8
+// planes each through project_velocities (items = problems; its static path is the same call
+// in a static build, whose one kernel is the build's own). Names are
 //   dispatch/<function>/<f32|f64>/<path>/<isa>     dispatch/world_<...>/<path>/<isa>
 // with path one of
 //   static       (any build but PLUME_DISPATCH=ON) the build's widest batch, the function
@@ -17,8 +19,8 @@
 //                World::ray_cast after set_isa(<isa>), for each set the binary carries and
 //                this CPU runs
 // The overhead of dispatch on <isa> is dispatched/<isa> in the dispatch build against
-// static/<isa> in the <isa> build (docs/performance.md, "Dispatch", has the commands; the width
-// report does not run the dispatch build yet).
+// static/<isa> in the <isa> build: the width report (bench/report.sh) builds the dispatch
+// variant too and prints the two side by side, in the same rounds.
 #include <plume/dispatch.hpp>
 #include <plume/numerics.hpp>
 #include <plume/world.hpp>
@@ -29,6 +31,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <new>
 #include <optional>
@@ -240,12 +243,70 @@ void register_world() {
 #endif
 }
 
+// ------------------------------------------------------------------ velocity projection
+// 1,024 problems of 0 to 8 planes facing the velocity (the contact sets of a crowd), fixed seed.
+struct ProjectionProblems {
+  std::vector<plume::Vec3> v, n;
+  std::vector<std::uint32_t> offsets{0};
+  ProjectionProblems() {
+    std::mt19937 rng(5);
+    std::normal_distribution<float> g;
+    auto unit = [&] {
+      plume::Vec3 const a{g(rng), g(rng), g(rng)};
+      return a * (1.0f / std::max(1e-3f, a.length()));
+    };
+    for (int p = 0; p < 1024; ++p) {
+      plume::Vec3 const vel = unit() * 3.0f;
+      v.push_back(vel);
+      for (int i = 0; i < p % 9; ++i) {
+        plume::Vec3 c = unit();
+        if (c.dot(vel) > 0.0f) c = c * -1.0f;
+        n.push_back(c);
+      }
+      offsets.push_back(static_cast<std::uint32_t>(n.size()));
+    }
+  }
+};
+
+void project_batch(benchmark::State& st) {
+  static ProjectionProblems const p;
+  std::vector<plume::VelocityProjection3> out(p.v.size());
+  plume::bench::run_items(st, std::int64_t(p.v.size()), [&] {
+    if (plume::project_velocities(std::span<plume::Vec3 const>(p.v),
+                                  std::span<plume::Vec3 const>(p.n), p.offsets,
+                                  out) != plume::ProjectVelocitiesError::none)
+      st.SkipWithError("project_velocities refused");
+    benchmark::DoNotOptimize(out.data());
+  });
+}
+
+void register_projection() {
+#if PLUME_DISPATCH
+  for (plume::Isa const isa : plume::compiled_isas()) {
+    if (!plume::cpu_has(isa)) continue;
+    benchmark::RegisterBenchmark(
+        ("dispatch/project_velocities/1024/dispatched/" + std::string(plume::isa_name(isa)))
+            .c_str(),
+        [isa](benchmark::State& st) {
+          if (plume::set_isa(isa) != plume::IsaError::none) st.SkipWithError("set_isa refused");
+          project_batch(st);
+        });
+  }
+#else
+  benchmark::RegisterBenchmark(("dispatch/project_velocities/1024/static/" +
+                                std::string(plume::isa_name(plume::active_isa())))
+                                   .c_str(),
+                               project_batch);
+#endif
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
   register_all<float>();
   register_all<double>();
   register_world();
+  register_projection();
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();
