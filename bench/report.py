@@ -7,7 +7,7 @@ has repetitions): on a shared machine interference only ever slows a run down (a
 can read 40% slow for one build), so the fastest is the closest to the code's own speed.
 Usage:
     report.py OUT_DIR WIDEST VARIANT=RESULT.json [VARIANT=RESULT.json ...]
-Prints and writes OUT_DIR/width_report.md with two tables:
+Prints and writes OUT_DIR/width_report.md with three tables:
   across builds     plume x1 of the scalar build, and plume at the widest width of every
                     other build, with the speed-up over the scalar build
   within one build  every implementation and width of the WIDEST build, with the ratio to
@@ -212,6 +212,7 @@ def dispatch_lines(dispatch_paths):
         cases.setdefault(case, {})[isa] = (v, static)
     if not cases:
         return []
+    missing = [i for i in ("sse2", "avx2", "avx512") if i not in isas]
     canonical = ["scalar", "sse2", "avx2", "avx512"]
     isas.sort(key=lambda i: canonical.index(i) if i in canonical else len(canonical))
     lines = ["", "## Dispatched: one binary against the static build of each set (items/s)", "",
@@ -230,6 +231,9 @@ def dispatch_lines(dispatch_paths):
             cells.append(f"{human(v)} / {human(static)} ({v / static:.2f}x)" if static
                          else f"{human(v)} / (no static build)")
         lines.append(f"| {case} | " + " | ".join(cells) + " |")
+    if missing:
+        lines += ["", "Sets the dispatch build carries that this CPU does not run (no column): "
+                  + ", ".join(missing) + "."]
     return lines
 
 

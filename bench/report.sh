@@ -44,9 +44,11 @@ done
 # plume_bench_dispatch, whose dispatched/<isa> figures the report sets beside the static
 # builds' static/<isa> ones.
 ddir=build/report-dispatch
-echo "plume: building the dispatch variant's plume_bench_dispatch in $ddir"
-plume_configure dispatch "$ddir" -DPLUME_BUILD_TESTS=OFF
-cmake --build "$ddir" -j "$(nproc 2>/dev/null || echo 2)" --target plume_bench_dispatch >/dev/null
+if plume_cpu_runs sse2; then
+  echo "plume: building the dispatch variant's plume_bench_dispatch in $ddir"
+  plume_configure dispatch "$ddir" -DPLUME_BUILD_TESTS=OFF
+  cmake --build "$ddir" -j "$(nproc 2>/dev/null || echo 2)" --target plume_bench_dispatch >/dev/null
+fi
 rounds=${PLUME_REPORT_ROUNDS:-5}
 for ((r = 1; r <= rounds; r++)); do
   echo "plume: round $r of $rounds"
@@ -66,7 +68,7 @@ for ((r = 1; r <= rounds; r++)); do
         --benchmark_out="$json" --benchmark_out_format=json >/dev/null
       args+=("$v=$json")
     done
-    if [ "$name" = plume_bench_dispatch ]; then
+    if [ "$name" = plume_bench_dispatch ] && [ -x "$ddir/bench/$name" ]; then
       json="$out/dispatch.$name.r$r.json"
       "$ddir/bench/$name" --benchmark_repetitions="${PLUME_REPORT_REPS:-1}" \
         --benchmark_report_aggregates_only=true --benchmark_min_time="${PLUME_REPORT_MIN_TIME:-0.1}" \

@@ -5,7 +5,9 @@
 // plume_bench_numerics); items = evaluations. World: dispatch/world_step/pyramid15/... steps
 // the settled 15-layer pyramid of plume_bench_world (items = steps);
 // dispatch/world_rays/4096/... casts 4,096 rays into it through the batch World::ray_cast
-// (items = rays); dispatch/project_velocities/1024/... projects 1,024 velocities against 0 to 8
+// (items = rays); dispatch/world_rays_level/4096/... casts 4,096 rays down at the static level
+// of scenes::add_level (a mesh, a height field, 40 boxes: the trees a dispatch build stores
+// 4 lanes wide); dispatch/project_velocities/1024/... projects 1,024 velocities against 0 to 8
 // planes each through project_velocities (items = problems; its static path is the same call
 // in a static build, whose one kernel is the build's own). Names are
 //   dispatch/<function>/<f32|f64>/<path>/<isa>     dispatch/world_<...>/<path>/<isa>
@@ -189,6 +191,31 @@ std::vector<plume::Ray3> const& pyramid_rays() {
   return rays;
 }
 
+// The level of scenes::add_level (a mesh, a height field, 40 static boxes) alone, and 4,096
+// rays down at it from random points above: the static geometry's trees and triangle blocks,
+// which a dispatch build stores at the baseline's width (f32xS).
+plume::World const& level() {
+  static plume::World const world = [] {
+    plume::World w;
+    plume::scenes::add_level(w);
+    w.step(1.0f / 60.0f); // the broad phase's trees built
+    return w;
+  }();
+  return world;
+}
+
+std::vector<plume::Ray3> const& level_rays() {
+  static std::vector<plume::Ray3> const rays = [] {
+    std::mt19937 rng(13);
+    std::uniform_real_distribution<float> x(-13.0f, 22.0f), z(-13.0f, 13.0f), tilt(-0.4f, 0.4f);
+    std::vector<plume::Ray3> r;
+    for (int i = 0; i < 4096; ++i)
+      r.push_back({{x(rng), 6.0f, z(rng)}, {tilt(rng), -1.0f, tilt(rng)}});
+    return r;
+  }();
+  return rays;
+}
+
 template <class Step>
 void world_step(benchmark::State& st, Step step) {
   plume::World world = settled_pyramid();
@@ -196,9 +223,8 @@ void world_step(benchmark::State& st, Step step) {
 }
 
 template <class Cast>
-void world_rays(benchmark::State& st, Cast cast) {
-  plume::World const& world = settled_pyramid();
-  auto const& rays = pyramid_rays();
+void world_rays(benchmark::State& st, Cast cast, plume::World const& world,
+                std::vector<plume::Ray3> const& rays) {
   std::vector<std::optional<plume::WorldRayHit>> out(rays.size());
   plume::bench::run_items(st, std::int64_t(rays.size()), [&] {
     cast(world, rays, out);
@@ -218,13 +244,18 @@ void register_world() {
                                    world_step(st, [](plume::World& w) { w.step(1.0f / 60.0f); });
                                  })
         ->Unit(benchmark::kMillisecond);
-    benchmark::RegisterBenchmark(("dispatch/world_rays/4096/dispatched/" + i).c_str(),
-                                 [isa](benchmark::State& st) {
-                                   if (plume::set_isa(isa) != plume::IsaError::none)
-                                     st.SkipWithError("set_isa refused");
-                                   world_rays(st, [](plume::World const& w, auto const& r,
-                                                     auto& o) { w.ray_cast(r, 100.0f, o); });
-                                 });
+    for (bool const on_level : {false, true})
+      benchmark::RegisterBenchmark(
+          ((on_level ? "dispatch/world_rays_level/4096/dispatched/"
+                     : "dispatch/world_rays/4096/dispatched/") +
+           i)
+              .c_str(),
+          [isa, on_level](benchmark::State& st) {
+            if (plume::set_isa(isa) != plume::IsaError::none) st.SkipWithError("set_isa refused");
+            world_rays(
+                st, [](plume::World const& w, auto const& r, auto& o) { w.ray_cast(r, 100.0f, o); },
+                on_level ? level() : settled_pyramid(), on_level ? level_rays() : pyramid_rays());
+          });
   }
 #else
   std::string const i(plume::isa_name(plume::active_isa()));
@@ -234,12 +265,20 @@ void register_world() {
         world_step(st, [](plume::World& w) { w.step_with<plume::f32xN>(1.0f / 60.0f); });
       })
       ->Unit(benchmark::kMillisecond);
-  benchmark::RegisterBenchmark(("dispatch/world_rays/4096/static/" + i).c_str(),
-                               [](benchmark::State& st) {
-                                 world_rays(st, [](plume::World const& w, auto const& r, auto& o) {
-                                   w.ray_cast_with<plume::f32xN>(r, 100.0f, o);
+  for (bool const on_level : {false, true})
+    benchmark::RegisterBenchmark(((on_level ? "dispatch/world_rays_level/4096/static/"
+                                            : "dispatch/world_rays/4096/static/") +
+                                  i)
+                                     .c_str(),
+                                 [on_level](benchmark::State& st) {
+                                   world_rays(
+                                       st,
+                                       [](plume::World const& w, auto const& r, auto& o) {
+                                         w.ray_cast_with<plume::f32xN>(r, 100.0f, o);
+                                       },
+                                       on_level ? level() : settled_pyramid(),
+                                       on_level ? level_rays() : pyramid_rays());
                                  });
-                               });
 #endif
 }
 

@@ -35,28 +35,52 @@ wide_vec_t<Vec> gather(std::array<Vec, L> const& v) noexcept {
     return {load_aligned<f32xN>(x.data()), load_aligned<f32xN>(y.data())};
 }
 
+/// The order in which the problems fill packets: by plane count (a counting sort, counts of 63
+/// and more sharing the last bucket), so that a packet's lanes have similar counts and pad
+/// little. Only speed depends on it: a lane's answer does not depend on its neighbours.
+std::vector<std::size_t> packet_order(std::uint32_t const* offsets, std::size_t n) {
+  constexpr std::size_t buckets = 64;
+  std::array<std::size_t, buckets + 1> start{};
+  auto const bucket = [&](std::size_t p) {
+    return std::min<std::size_t>(offsets[p + 1] - offsets[p], buckets - 1);
+  };
+  for (std::size_t p = 0; p < n; ++p)
+    ++start[bucket(p) + 1];
+  for (std::size_t b = 0; b < buckets; ++b)
+    start[b + 1] += start[b];
+  std::vector<std::size_t> order(n);
+  for (std::size_t p = 0; p < n; ++p)
+    order[start[bucket(p)]++] = p;
+  return order;
+}
+
 template <class Vec>
 void project_batch(Vec const* velocities, std::size_t n, Vec const* normals,
                    std::uint32_t const* offsets, VelocityProjectionConfig const& cfg,
                    GVelocityProjection<Vec>* out, float* lambda) noexcept {
   using W = wide_vec_t<Vec>;
   constexpr std::size_t L = lanes_v<f32xN>;
+  std::vector<std::size_t> const order =
+      L > 1 ? packet_order(offsets, n) : std::vector<std::size_t>{};
+  auto const problem = [&](std::size_t k) { return L > 1 ? order[k] : k; };
   // Scratch reused across packets: the padded normals and multipliers of one packet.
   std::vector<W> wn;
   std::vector<f32xN> wl;
   for (std::size_t g = 0; g < n; g += L) {
     std::size_t const lanes = std::min(L, n - g);
+    std::array<std::size_t, L> p{};
     std::size_t kmax = 0;
     std::array<Vec, L> v{};
     for (std::size_t l = 0; l < lanes; ++l) {
-      v[l] = velocities[g + l];
-      kmax = std::max<std::size_t>(kmax, offsets[g + l + 1] - offsets[g + l]);
+      p[l] = problem(g + l);
+      v[l] = velocities[p[l]];
+      kmax = std::max<std::size_t>(kmax, offsets[p[l] + 1] - offsets[p[l]]);
     }
     wn.resize(kmax);
     for (std::size_t i = 0; i < kmax; ++i) {
       std::array<Vec, L> ni{}; // zero normals pad the shorter problems (and the empty lanes)
       for (std::size_t l = 0; l < lanes; ++l)
-        if (offsets[g + l] + i < offsets[g + l + 1]) ni[l] = normals[offsets[g + l] + i];
+        if (offsets[p[l]] + i < offsets[p[l] + 1]) ni[l] = normals[offsets[p[l]] + i];
       wn[i] = gather(ni);
     }
     std::span<W const> const planes(wn.data(), kmax);
@@ -69,14 +93,14 @@ void project_batch(Vec const* velocities, std::size_t n, Vec const* normals,
     }
     std::uint64_t const converged = bitmask(r.converged), invalid = bitmask(r.invalid_input);
     for (std::size_t l = 0; l < lanes; ++l) {
-      GVelocityProjection<Vec>& o = out[g + l];
+      GVelocityProjection<Vec>& o = out[p[l]];
       o.velocity = lane(r.velocity, l);
       o.steps = lane(r.steps, l);
       o.converged = (converged >> l & 1u) != 0;
       o.invalid_input = (invalid >> l & 1u) != 0;
       if (lambda)
-        for (std::uint32_t i = offsets[g + l]; i < offsets[g + l + 1]; ++i)
-          lambda[i] = lane(wl[i - offsets[g + l]], l);
+        for (std::uint32_t i = offsets[p[l]]; i < offsets[p[l] + 1]; ++i)
+          lambda[i] = lane(wl[i - offsets[p[l]]], l);
     }
   }
 }

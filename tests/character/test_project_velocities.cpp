@@ -8,6 +8,8 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cstring>
+#include <limits>
 #include <string>
 
 using namespace plume;
@@ -95,12 +97,44 @@ TEST_CASE("project_velocities: bad arguments are refused and nothing is written"
     ++k;                                 // a problem with planes
   std::swap(offsets[k], offsets[k + 1]); // decreasing
   CHECK(project_velocities(v, nrm, offsets, out, lambda) == E::bad_offsets);
+  // A negative or NaN epsilon: the padding's zero normals would count as violated planes.
+  VelocityProjectionConfig bad;
+  bad.epsilon = -1e-3f;
+  CHECK(project_velocities(v, nrm, b.offsets, out, lambda, bad) == E::bad_config);
+  bad.epsilon = std::numeric_limits<float>::quiet_NaN();
+  CHECK(project_velocities(v, nrm, b.offsets, out, lambda, bad) == E::bad_config);
   CHECK(untouched());
+  bad.epsilon = 0.0f; // zero is fine
+  std::vector<VelocityProjection3> out0(10);
+  CHECK(project_velocities(v, nrm, b.offsets, out0, {}, bad) == E::none);
+  // An output over an input (the multipliers over the normals), or over the other output.
+  std::vector<Vec3> normals_copy(b.normals);
+  std::span<float> const lambda_over_normals(reinterpret_cast<float*>(normals_copy.data()),
+                                             normals_copy.size());
+  CHECK(project_velocities(v, std::span<Vec3 const>(normals_copy), b.offsets, out,
+                           lambda_over_normals) == E::overlap);
+  CHECK(std::memcmp(normals_copy.data(), b.normals.data(), b.normals.size() * sizeof(Vec3)) == 0);
+  CHECK(untouched());
+  Vec3 const two_v[] = {{1, 0, 0}, {0, 1, 0}};
+  Vec3 const three_n[] = {{-1, 0, 0}, {0, -1, 0}, {0, 0, 1}};
+  std::uint32_t const two_offsets[] = {0, 2, 3};
+  std::vector<float> storage(64, -7.0f);
+  std::span<VelocityProjection3> const out_in_storage(
+      reinterpret_cast<VelocityProjection3*>(storage.data()), 2);
+  std::span<float> const lambda_in_out(storage.data() + 1, 3);
+  CHECK(project_velocities(two_v, three_n, two_offsets, out_in_storage, lambda_in_out) ==
+        E::overlap);
+  CHECK(std::all_of(storage.begin(), storage.end(), [](float l) { return l == -7.0f; }));
   CHECK(std::all_of(short_out.begin(), short_out.end(),
                     [](auto const& r) { return r.steps == 99.0f; }));
+  CHECK(std::all_of(short_lambda.begin(), short_lambda.end(), [](float l) { return l == -7.0f; }));
   // Every error has its own message.
   CHECK(to_string(E::none) == "none");
-  CHECK(to_string(E::length_mismatch) != to_string(E::bad_offsets));
+  for (E const a :
+       {E::length_mismatch, E::bad_offsets, E::too_many_planes, E::overlap, E::bad_config})
+    for (E const c :
+         {E::length_mismatch, E::bad_offsets, E::too_many_planes, E::overlap, E::bad_config})
+      CHECK((a == c) == (to_string(a) == to_string(c)));
   CHECK(to_string(E::bad_offsets).find("offsets") != std::string_view::npos);
   // The empty batch: offsets {0}, nothing to do; without the one offset it is refused.
   std::uint32_t const zero[] = {0};
@@ -109,12 +143,16 @@ TEST_CASE("project_velocities: bad arguments are refused and nothing is written"
   CHECK(project_velocities(std::span<Vec3 const>{}, std::span<Vec3 const>{},
                            std::span<std::uint32_t const>{},
                            std::span<VelocityProjection3>{}) == E::length_mismatch);
-  // Problems without planes: v comes back (checked bit for bit against the single call).
+  // Problems without planes: v comes back unchanged, as from the single call, in no steps.
   std::vector<Vec3> vs = {{1, 2, 3}, {0, 0, 0}, {-4, 0.5f, 1e-3f}};
   std::vector<std::uint32_t> const none(4, 0u);
   std::vector<VelocityProjection3> r(3);
   REQUIRE(project_velocities(vs, std::span<Vec3 const>{}, none, r) == E::none);
   for (std::size_t i = 0; i < 3; ++i) {
+    auto const one = project_velocity<float>(vs[i], std::span<Vec3 const>{});
+    CHECK(test::same_bits(r[i].velocity.x, one.velocity.x));
+    CHECK(test::same_bits(r[i].velocity.y, one.velocity.y));
+    CHECK(test::same_bits(r[i].velocity.z, one.velocity.z));
     CHECK(r[i].velocity.cmpeq(vs[i]).all());
     CHECK(r[i].converged);
     CHECK(r[i].steps == 0.0f);

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <cstdio>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,20 @@ int main() {
            .shape = plume::Cuboid{plume::Vec3::splat(0.5f)}});
     for (int i = 0; i < 60; ++i)
       world.step(1.0f / 60.0f);
+    // The batch velocity projection: a floor and a wall against (1, 2, -1), 17 times.
+    std::vector<plume::Vec3> v(17, plume::Vec3{1, 2, -1}), n;
+    std::vector<std::uint32_t> offsets{0};
+    for (int i = 0; i < 17; ++i) {
+      n.push_back({0, 0, 1});
+      n.push_back({-1, 0, 0});
+      offsets.push_back(static_cast<std::uint32_t>(n.size()));
+    }
+    std::vector<plume::VelocityProjection3> slides(v.size());
+    ok = ok &&
+         plume::project_velocities(std::span<plume::Vec3 const>(v), std::span<plume::Vec3 const>(n),
+                                   offsets, slides) == plume::ProjectVelocitiesError::none;
+    for (auto const& s : slides)
+      ok = ok && s.converged && s.velocity.x == 0 && s.velocity.y == 2 && s.velocity.z == 0;
     if (first.empty()) {
       first = out;
       first_world = world.state_hash();

@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -48,9 +49,18 @@ int main() {
   auto slides = project_velocity(crowd, lane_planes);
   Penetration3 const hits[] = {{floor_normal, 0.02f}, {wall_normal, 0.01f}};
   Vec3 const fix = depenetrate(hits).correction;
+  // The batch form (compiled, in the character library): the same problem twice.
+  Vec3 const batch_v[] = {velocity, velocity};
+  Vec3 const batch_n[] = {floor_normal, wall_normal, floor_normal, wall_normal};
+  std::uint32_t const batch_offsets[] = {0, 2, 4};
+  VelocityProjection3 batch[2];
+  bool const batch_ok =
+      project_velocities(batch_v, batch_n, batch_offsets, batch) == ProjectVelocitiesError::none &&
+      batch[1].velocity.x == slide.velocity.x && batch[1].velocity.y == slide.velocity.y &&
+      batch[1].velocity.z == slide.velocity.z;
   bool const solver_ok = slide.converged && slide.velocity.x == 0 && slide.velocity.y == 2 &&
                          slide.velocity.z == 0 && lane(slides.velocity, 0).y == 2 &&
-                         fix.x == -0.01f && fix.y == 0 && fix.z == 0.02f;
+                         fix.x == -0.01f && fix.y == 0 && fix.z == 0.02f && batch_ok;
   std::printf("consumer: slide (%g, %g, %g), fix (%g, %g, %g)\n", slide.velocity.x,
               slide.velocity.y, slide.velocity.z, fix.x, fix.y, fix.z);
   // The README's ray-cast example (capsules of half height 1, radius 0.5 at x = 10, rays

@@ -23,44 +23,11 @@ using namespace plume;
 
 namespace {
 
-// Level geometry that baseline code builds and every set's kernels read: a bumpy 24 x 24 m
-// triangle mesh (a real mesh tree and triangle blocks), a height field beside it, and a row of
-// 40 static boxes (enough for the broad phase's wide copy of the static tree). A layout that
-// differed between sets (the mesh's tree and blocks did, before f32xS) crashes or changes bits.
-void add_level(World& world) {
-  int const n = 24;
-  std::vector<Vec3> v;
-  std::vector<std::uint32_t> idx;
-  for (int z = 0; z <= n; ++z)
-    for (int x = 0; x <= n; ++x)
-      v.push_back({float(x) - 12.0f, 0.15f * std::sin(0.9f * float(x)) * std::cos(0.7f * float(z)),
-                   float(z) - 12.0f});
-  for (int z = 0; z < n; ++z)
-    for (int x = 0; x < n; ++x) {
-      std::uint32_t const a = std::uint32_t(z * (n + 1) + x), b = a + 1,
-                          c = a + std::uint32_t(n + 1), d = c + 1;
-      idx.insert(idx.end(), {a, c, b, b, c, d});
-    }
-  auto mesh = TriangleMesh::build(v, idx);
-  REQUIRE(mesh.ok());
-  REQUIRE(world.create_body(
-      {.type = BodyType::static_body,
-       .shape = MeshShape{std::make_shared<TriangleMesh const>(std::move(mesh.mesh))}}));
-  std::vector<float> heights(17 * 17);
-  for (std::size_t i = 0; i < heights.size(); ++i)
-    heights[i] = 0.2f * std::sin(0.5f * float(i));
-  auto field = HeightField::build(17, 17, heights, 1.0f, 1.0f);
-  REQUIRE(field.ok());
-  REQUIRE(world.create_body(
-      {.type = BodyType::static_body,
-       .pose = Iso3::from_translation({14.0f, 0.0f, -8.0f}),
-       .shape = HeightFieldShape{std::make_shared<HeightField const>(std::move(field.field))}}));
-  for (int i = 0; i < 40; ++i)
-    REQUIRE(
-        world.create_body({.type = BodyType::static_body,
-                           .pose = Iso3::from_translation({-11.5f + 0.6f * float(i), 0.3f, 11.0f}),
-                           .shape = Cuboid{{0.25f, 0.3f, 0.25f}}}));
-}
+// The level (scenes::add_level: a mesh, a height field, 40 static boxes) is geometry that
+// baseline code builds and every set's kernels read (the mesh's tree and triangle blocks, the
+// broad phase's wide copy of the static tree). A layout that differed between sets (the mesh's
+// tree and blocks did, before f32xS) crashes or changes bits.
+using scenes::add_level;
 
 // Boxes in a pyramid on the level, a ball thrown at it, a chain, a ragdoll, and boxes and
 // balls dropped on the mesh, the height field and the row of static boxes (contacts, mesh and

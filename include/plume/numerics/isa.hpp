@@ -8,7 +8,8 @@
 // CPUID's OSXSAVE and XCR0 report). Any other build carries one set, its own (PLUME_SIMD;
 // `native` counts as the widest family it enables), and the same entry points run that one.
 // The dispatched entry points: World::step, the batch World::ray_cast and World::shape_cast,
-// and the math functions over spans (<plume/numerics/spans.hpp>).
+// the math functions over spans (<plume/numerics/spans.hpp>) and the batch velocity
+// projection, project_velocities (<plume/solver/character/project_velocities.hpp>).
 //
 // Choosing:
 //  - by default, best_isa(): the widest carried set the CPU runs;

@@ -16,13 +16,21 @@
 //
 // Bad arguments (the call writes nothing and returns the error): out or lambda_out of the
 // wrong length or offsets of the wrong length (length_mismatch); offsets not starting at 0,
-// decreasing, or not ending at normals.size() (bad_offsets). Empty batches are fine. Bad
-// values inside a problem (non-finite, out of range) are the single call's business: that
-// problem comes back invalid_input, its neighbours in the lanes are unaffected.
+// decreasing, or not ending at normals.size() (bad_offsets); a problem of more than 2^24
+// planes (too_many_planes: plane indices are carried as floats, exact up to 2^24); an output
+// that overlaps an input or the other output (overlap); cfg.epsilon negative or NaN
+// (bad_config: the padding's zero normals would then count as violated planes). Empty
+// batches are fine. Bad values inside a problem (non-finite, out of range) are the single
+// call's business: that problem comes back invalid_input, its neighbours in the lanes are
+// unaffected. Offsets are 32-bit: a batch holds fewer than 2^32 normals.
 //
-// Speed: consecutive problems share a packet of lanes, padded with zero normals (which never
-// change a result) to the packet's largest plane count, and a packet runs as many steps as its
-// slowest lane: when plane counts vary widely, order problems by count.
+// The call allocates scratch space for one packet (its largest problem's planes); it is
+// noexcept, so running out of memory there terminates.
+//
+// Speed: problems share packets of lanes in the order of their plane counts (a counting sort
+// inside the call), each packet padded with zero normals (which never change a result) to its
+// largest count; a packet runs as many steps as its slowest lane. Answers do not depend on
+// the packing: each lane is its own problem.
 #pragma once
 
 #include <plume/solver/character/velocity_projection.hpp>
@@ -38,6 +46,9 @@ enum class ProjectVelocitiesError {
   none,
   length_mismatch, ///< out, lambda_out (when not empty) or offsets of the wrong length
   bad_offsets,     ///< offsets not 0-based, decreasing, or not ending at normals.size()
+  too_many_planes, ///< a problem of more than 2^24 planes
+  overlap,         ///< out or lambda_out overlaps an input or the other output
+  bad_config,      ///< cfg.epsilon negative or NaN
 };
 
 /// A one-line description of e, for logs.
