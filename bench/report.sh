@@ -18,7 +18,8 @@
 # for minutes) falls on all of them rather than on the one build that happened to run then.
 # Output: build/report/width_report.md, width_report.png (chart) and the raw JSON.
 # PLUME_REPORT_ROUNDS (default 5), PLUME_REPORT_REPS (repetitions per round, default 1) and
-# PLUME_REPORT_MIN_TIME (seconds, default 0.1) tune the run.
+# PLUME_REPORT_MIN_TIME (seconds, default 0.1) tune the run; PLUME_REPORT_VARIANTS (e.g.
+# "scalar avx2") keeps only those of the runnable variants.
 # Each build is its CMakePresets.json preset with the tests off; which variants this CPU
 # runs is decided in one place, tools/cpu_gate.cpp (via tools/variants.sh).
 set -euo pipefail
@@ -28,6 +29,14 @@ source tools/variants.sh
 bash tools/install_deps.sh
 
 mapfile -t variants < <(plume_runnable_variants)
+if [ -n "${PLUME_REPORT_VARIANTS:-}" ]; then # a subset, e.g. "scalar avx2" (a quicker report)
+  chosen=()
+  for v in "${variants[@]}"; do
+    [[ " $PLUME_REPORT_VARIANTS " == *" $v "* ]] && chosen+=("$v")
+  done
+  [ ${#chosen[@]} -gt 0 ] || { echo "plume: none of PLUME_REPORT_VARIANTS ($PLUME_REPORT_VARIANTS) runs here"; exit 1; }
+  variants=("${chosen[@]}")
+fi
 widest=${variants[${#variants[@]} - 1]}
 
 out=build/report
