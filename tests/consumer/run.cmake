@@ -10,8 +10,8 @@ set(src ${PLUME_SOURCE}/tests/consumer)
 # 1. add_subdirectory (not with -DPACKAGE_ONLY=ON: the dispatch build's test, whose
 #    add_subdirectory path would be the scalar build's again)
 if(NOT PACKAGE_ONLY)
-  # Unoptimised: this path checks the CMake integration, and plume's sources at -O0 compile in
-  # a fraction of -O3's time (the world's step and queries took most of this test's 105 s).
+  # Unoptimised: this path checks the CMake integration, not speed, and -O0 compiles plume's
+  # sources in a fraction of -O3's time (docs/performance.md, "CI time").
   run(${CMAKE_COMMAND} -S ${src} -B ${WORK}/subdir -G ${GENERATOR} -DPLUME_VIA=subdirectory -DPLUME_SOURCE=${PLUME_SOURCE}
       -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG=-O0)
   run(${CMAKE_COMMAND} --build ${WORK}/subdir)
