@@ -219,8 +219,8 @@ std::size_t nodes_visited(plume::GWideBvh<T> const& bvh, sphere_scene const& s, 
     std::uint64_t bits = 0;
     for (std::size_t g = 0; g < K / L; ++g) {
       T en;
-      auto const m = plume::detail::ray_enters(r, node.box[g].min, node.box[g].max,
-                                               plume::splat<T>(limit), en);
+      plume::GAabb3<T> const b = node.template box<T>(g);
+      auto const m = plume::detail::ray_enters(r, b.min, b.max, plume::splat<T>(limit), en);
       plume::store_aligned(&at[g * L], en);
       bits |= plume::bitmask(m) << (g * L);
     }

@@ -245,15 +245,7 @@ void TriangleMesh::build_blocks() {
     }
     block_root_.push_back(i);
   }
-  block_bvh_ = make_block_bvh<f32xS>();
-}
-
-MeshRayHit TriangleMesh::ray_cast(Iso3 const& pose, Ray3 const& ray, float max_toi) const {
-  Ray3 const local{pose.inverse_transform_point(ray.origin),
-                   pose.inverse_transform_vector(ray.dir)};
-  MeshRayHit h = ray_cast_blocks_with(block_bvh_, local, max_toi);
-  if (h.hit()) h.normal = pose.transform_vector(h.normal);
-  return h;
+  block_bvh_ = make_block_bvh<f32xS, WideBvh::arity>();
 }
 
 Vec3 closest_point_on_triangle(Triangle const& t, Vec3 const& p) noexcept {
@@ -280,8 +272,8 @@ Vec3 closest_point_on_triangle(Triangle const& t, Vec3 const& p) noexcept {
 MeshClosestPoint TriangleMesh::closest_point(Vec3 const& p, float max_distance) const {
   if (bvh_.empty() || !finite(p) || !(max_distance >= 0.0f)) return {};
   using W = WideBvh;
-  using T = f32xS;
-  constexpr std::size_t K = W::arity, L = W::lanes;
+  using T = f32xR;
+  constexpr std::size_t K = W::arity, L = lanes_v<T>;
   detail::NearestTrianglePoint nearest(p, max_distance);
   GVec3<T> const q = detail::splat3<T>(p);
   struct entry {
@@ -304,7 +296,8 @@ MeshClosestPoint TriangleMesh::closest_point(Vec3 const& p, float max_distance) 
     alignas(64) std::array<float, K> d2s;
     T const zero = plume::zero<T>();
     for (std::size_t g = 0; g < K / L; ++g) {
-      GVec3<T> const lo = node.box[g].min, hi = node.box[g].max;
+      GAabb3<T> const b = node.template box<T>(g);
+      GVec3<T> const lo = b.min, hi = b.max;
       T const dx = plume::max(plume::max(lo.x - q.x, q.x - hi.x), zero);
       T const dy = plume::max(plume::max(lo.y - q.y, q.y - hi.y), zero);
       T const dz = plume::max(plume::max(lo.z - q.z, q.z - hi.z), zero);

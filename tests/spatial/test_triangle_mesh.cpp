@@ -117,6 +117,17 @@ void for_each_block_bvh(TriangleMesh const& m, F&& f) {
   plume::for_each_type<test::f32_types>([&]<class T>() { f(m.make_block_bvh<T>()); });
 }
 
+/// f.template operator()<U>() for float and every f32 width that reads the mesh's own trees
+/// and blocks (lanes dividing WideBvh::arity and triangle_block_size).
+template <class F>
+void for_each_reader(F&& f) {
+  f.template operator()<float>();
+  plume::for_each_type<f32_widths>([&]<class U>() {
+    if constexpr (WideBvh::arity % lanes_v<U> == 0 && triangle_block_size % lanes_v<U> == 0)
+      f.template operator()<U>();
+  });
+}
+
 } // namespace
 
 TEST_CASE("mesh ray blocks hold every triangle once, lanes filled by repeats", "[mesh][ray]") {
@@ -220,6 +231,8 @@ TEST_CASE("mesh ray casts equal brute force over separate triangles", "[mesh][ra
       for_each_block_bvh(
           m, [&](auto const& bvh) { check_same(m.ray_cast_blocks_with(bvh, r, max_toi), want); });
       check_same(m.ray_cast(r, max_toi), want);
+      // The mesh's own trees read at every width that divides them (a dispatch build's sets).
+      for_each_reader([&]<class U>() { check_same(m.ray_cast<U>(r, max_toi), want); });
     }
   }
   CHECK(hits > rays.size() / 4); // the rays do meet the mesh
@@ -254,6 +267,7 @@ TEST_CASE("mesh ray casts with a pose equal the posed triangle casts", "[mesh][r
       if (h.hit && h.toi < want.toi) want = {t, h.toi, h.normal, h.feature == 1.0f};
     }
     check_same(m.ray_cast(pose, r, inf), want);
+    for_each_reader([&]<class U>() { check_same(m.ray_cast<U>(pose, r, inf), want); });
   }
 }
 

@@ -220,6 +220,69 @@ TEMPLATE_LIST_TEST_CASE("wide bvh: f64 ray casts, ray and box queries equal brut
   CHECK(totals.ties > 10 * k / 3);
 }
 
+// The node layout depends on the scalar and the arity only, so one stored tree can be read by
+// every batch whose lanes divide its arity (each instruction set of a dispatch build reads the
+// stored trees at its own width): the same hits, the same leaves in the same order.
+static_assert(std::is_same_v<GWideBvh<float, 16>::Node, GWideBvh<f32xN, 16>::Node>);
+
+namespace {
+template <std::size_t K>
+void check_readers(Scene<float> const& s, Probe<float> const& p) {
+  INFO("arity " << K);
+  GWideBvh<float, K> const bvh(s.tree);
+  struct Answers {
+    std::vector<ProxyId> cast;
+    std::vector<decltype(bits_of(0.0f))> toi;
+    std::vector<RayHitRecord> ray, swept;
+    std::vector<ProxyId> box;
+    bool operator==(Answers const&) const = default;
+  };
+  auto const answers = [&]<class U>() {
+    Answers a;
+    for (std::size_t i = 0; i < p.rays.size(); ++i) {
+      Ray3 const& ray = p.rays[i];
+      float const max_toi = p.max_toi[i];
+      auto const hit = bvh.template ray_cast<U>(
+          ray, max_toi, [&](ProxyId id, float limit) { return s.cast(ray, id, limit); });
+      a.cast.push_back(hit.proxy);
+      a.toi.push_back(bits_of(hit.toi));
+      bvh.template ray_query<U>(ray, max_toi, [&](ProxyId id, float entry) {
+        a.ray.push_back({id, bits_of(entry)});
+        return max_toi;
+      });
+      bvh.template swept_query<U>(ray, Vec3{0.5f, 0.25f, 1.0f}, max_toi,
+                                  [&](ProxyId id, float entry) {
+                                    a.swept.push_back({id, bits_of(entry)});
+                                    return max_toi;
+                                  });
+      bvh.template query<U>(p.boxes[i], [&](ProxyId id) {
+        a.box.push_back(id);
+        return true;
+      });
+    }
+    return a;
+  };
+  Answers const want = answers.template operator()<float>();
+  CHECK(want.ray.size() > p.rays.size()); // the probes do meet leaves
+  CHECK(want.swept.size() > want.ray.size());
+  plume::for_each_type<f32_widths>([&]<class U>() {
+    if constexpr (K % lanes_v<U> == 0) {
+      INFO("read with " << lanes_v<U> << " lanes");
+      REQUIRE(answers.template operator()<U>() == want);
+    }
+  });
+}
+} // namespace
+
+TEST_CASE("wide bvh: one stored tree read at every width that divides its arity",
+          "[spatial][bvh]") {
+  Scene<float> const s = make_scene<float>(91, 300, true);
+  Probe<float> const p = make_probe(s, 92, PLUME_TEST_UNOPTIMISED ? 100 : 300);
+  check_readers<4>(s, p);
+  check_readers<8>(s, p);
+  check_readers<16>(s, p);
+}
+
 TEMPLATE_LIST_TEST_CASE("wide bvh: exact ties go to the lower proxy id, whatever the order",
                         "[spatial][bvh]", test::f32_types) {
   using T = TestType;
@@ -649,12 +712,8 @@ void check_collapse(GWideBvh<T, K> const& bvh, GAabbTree<scalar_t<T>> const& tre
   auto const& node = bvh.nodes()[wide];
   for (std::size_t i = 0; i < K; ++i) {
     INFO("wide node " << wide << " slot " << i);
-    GAabb3<S> const lane_box{{lane(node.box[i / W::lanes].min.x, i % W::lanes),
-                              lane(node.box[i / W::lanes].min.y, i % W::lanes),
-                              lane(node.box[i / W::lanes].min.z, i % W::lanes)},
-                             {lane(node.box[i / W::lanes].max.x, i % W::lanes),
-                              lane(node.box[i / W::lanes].max.y, i % W::lanes),
-                              lane(node.box[i / W::lanes].max.z, i % W::lanes)}};
+    GAabb3<S> const lane_box{{node.lo_x[i], node.lo_y[i], node.lo_z[i]},
+                             {node.hi_x[i], node.hi_y[i], node.hi_z[i]}};
     if (i >= kids.size()) {
       REQUIRE(node.child[i] == W::empty_child);
       REQUIRE(same_box(lane_box, GAabb3<S>{})); // EMPTY

@@ -7,6 +7,8 @@
 //                                    in a scalar build), for code that just wants "wide"
 //   f32xS                            the element type of stored structures (f32xN, or the
 //                                    baseline's in a PLUME_DISPATCH=ON build)
+//   stored_lanes, f32xR              the lanes of stored structures' nodes and blocks, and
+//                                    the batch kernels read them with (below)
 // A width the build does not enable is simply not declared.
 //
 // The one list of the widths a build has, for code that instantiates or registers something
@@ -90,14 +92,35 @@ using u32_widths = type_list<>;
 /// The element type of the data structures that outlive a call and are read by kernels: a
 /// mesh's trees and triangle blocks, the broad phase's wide copy of the static tree (the
 /// WideBvh alias). f32xN in any build but PLUME_DISPATCH=ON; there, whatever the translation
-/// unit's own flags, the sse2 baseline's batch, so that a structure built by baseline code has
-/// one layout in every instruction set's kernels (each set's kernels then traverse it 4 lanes
-/// at a time).
+/// unit's own flags, the sse2 baseline's batch, so that such a structure is one type in every
+/// instruction set's code (its layout is stored_lanes', below).
 #if defined(PLUME_DISPATCH) && PLUME_DISPATCH
 using f32xS = xsimd::batch<float, xsimd::sse2>;
 #else
 using f32xS = f32xN;
 #endif
+
+/// The lanes of those structures' nodes and blocks (a WideBvh's children per node, a
+/// multiple of a mesh's triangles per block): lanes_v<f32xN> in any build but
+/// PLUME_DISPATCH=ON, there 8 in every instruction set's code. Their layout depends on these
+/// counts only, not on the batch type (GWideBvh stores each child coordinate in an array of
+/// its arity), so any batch whose lanes divide them reads them in whole batches.
+/// f32xR is the one kernels read them with: f32xN, or in a PLUME_DISPATCH=ON build the
+/// widest batch of the translation unit's own set whose lanes divide 8 (f32x4 in the sse2
+/// baseline, f32x8 in the avx2 and avx512 kernels). So each set walks geometry built once at
+/// its own width, as wide as the static build of that set but for avx512 (8 lanes, not 16).
+#if defined(PLUME_DISPATCH) && PLUME_DISPATCH
+inline constexpr std::size_t stored_lanes = 8;
+#if PLUME_HAS_AVX2
+using f32xR = f32x8;
+#else
+using f32xR = f32xN;
+#endif
+#else
+inline constexpr std::size_t stored_lanes = lanes_v<f32xN>;
+using f32xR = f32xN;
+#endif
+static_assert(stored_lanes % lanes_v<f32xR> == 0 && stored_lanes % lanes_v<f32xS> == 0);
 
 namespace detail {
 template <class... Ls>

@@ -18,11 +18,13 @@
 // degenerate triangles: |(b - a) x (c - a)|^2 below the smallest normal float, which includes
 // repeated vertices and collinear ones; rejects a mesh with no triangle left. Every kept
 // triangle gets a tight box (margin 0) in a GAabbTree<float> rebuilt once by binned SAH and
-// a WideBvh copy (GWideBvh<f32xS>: f32xN, float in a scalar build) for the box, swept and
+// a WideBvh copy (stored_lanes children per node, at least 4) for the box, swept and
 // closest-point queries. Rays use a second copy whose leaves are triangle blocks: each
 // highest subtree of at most triangle_block_size triangles is one leaf, its triangles stored
 // lane by lane (detail::TriangleBlock), so a ray meets a whole leaf in one batch operation
-// per lanes_v<f32xS> triangles.
+// per lanes_v<f32xR> triangles. The queries written here as templates (ray casts, box and
+// swept queries) run at the calling code's width: f32xR of its own instruction set, also in
+// a PLUME_DISPATCH=ON build; closest_point runs at the library's.
 //
 // Ray casts: watertight per triangle (ray_cast_local(GTriangle)): a ray through a shared edge
 // or vertex of consistently wound triangles hits exactly one. Back faces: both faces are hit;
@@ -66,9 +68,9 @@ namespace plume {
 
 inline constexpr std::uint32_t no_triangle = 0xffffffffu;
 
-/// Triangles per leaf of a mesh's ray tree: 8, or the widest float batch's lanes if more
-/// (16 with AVX-512). The leaves and their boxes differ between builds; ray results do not.
-inline constexpr std::size_t triangle_block_size = lanes_v<f32xS> > 8 ? lanes_v<f32xS> : 8;
+/// Triangles per leaf of a mesh's ray tree: 8, or stored_lanes if more (16 in a static
+/// AVX-512 build). The leaves and their boxes differ between builds; ray results do not.
+inline constexpr std::size_t triangle_block_size = stored_lanes > 8 ? stored_lanes : 8;
 
 namespace detail {
 /// Up to triangle_block_size triangles stored lane by lane: lane i is triangle tri[i]; unused
@@ -96,7 +98,8 @@ struct alignas(64) TriangleBlock {
     return {{l(ax), l(ay), l(az)}, {l(bx), l(by), l(bz)}, {l(cx), l(cy), l(cz)}};
   }
 };
-static_assert(triangle_block_size % lanes_v<f32xS> == 0);
+static_assert(triangle_block_size % lanes_v<f32xS> == 0 &&
+              triangle_block_size % lanes_v<f32xR> == 0);
 static_assert(sizeof(TriangleBlock) == 40 * triangle_block_size, "no padding");
 } // namespace detail
 
@@ -183,11 +186,22 @@ public:
   }
 
   // ------------------------------------------------------------------ queries
+  /// The ray through the ray tree, lanes_v<U> nodes' children and triangles at a time: U =
+  /// f32xR (the calling code's width), float, or a batch whose lanes divide
+  /// WideBvh::arity and triangle_block_size; the result does not depend on U.
+  template <Real U = f32xR>
   MeshRayHit ray_cast(Ray3 const& ray, float max_toi) const {
-    return ray_cast_blocks_with(block_bvh_, ray, max_toi);
+    return ray_cast_blocks<U>(block_bvh_, ray, max_toi);
   }
   /// The ray in world space, the mesh placed by pose; normal in world space.
-  MeshRayHit ray_cast(Iso3 const& pose, Ray3 const& ray, float max_toi) const;
+  template <Real U = f32xR>
+  MeshRayHit ray_cast(Iso3 const& pose, Ray3 const& ray, float max_toi) const {
+    Ray3 const local{pose.inverse_transform_point(ray.origin),
+                     pose.inverse_transform_vector(ray.dir)};
+    MeshRayHit h = ray_cast<U>(local, max_toi);
+    if (h.hit()) h.normal = pose.transform_vector(h.normal);
+    return h;
+  }
   /// The same cast through another copy of tree() (GWideBvh<T, K>(mesh.tree())), one
   /// triangle per leaf: the same result for every T and K.
   template <Real T, std::size_t K>
@@ -197,7 +211,9 @@ public:
   /// another leaf count (a copy of tree(), or another mesh's) throws std::invalid_argument.
   template <Real T, std::size_t K>
   MeshRayHit ray_cast_blocks_with(GWideBvh<T, K> const& block_bvh, Ray3 const& ray,
-                                  float max_toi) const;
+                                  float max_toi) const {
+    return ray_cast_blocks<T>(block_bvh, ray, max_toi);
+  }
 
   /// f(triangle) for each triangle whose box meets `box` (touching counts), in the tree's
   /// order; f returns false to stop (or void to visit all). A box with a NaN meets nothing.
@@ -210,8 +226,9 @@ public:
   /// along it meets only these triangles' boxes: a shape cast's candidates.
   template <class F>
   void swept_query(Ray3 const& ray, Vec3 const& grow, float max_toi, F&& f) const {
-    bvh_.swept_query(ray, grow, max_toi,
-                     [&](ProxyId id, float entry) { return float(f(std::uint32_t(id), entry)); });
+    bvh_.template swept_query<f32xR>(ray, grow, max_toi, [&](ProxyId id, float entry) {
+      return float(f(std::uint32_t(id), entry));
+    });
   }
 
   /// The nearest point of the mesh at distance <= max_distance from p (ties to the lower
@@ -221,6 +238,9 @@ public:
 
 private:
   void build_blocks(); ///< blocks_, block_root_ and block_bvh_ from tree_
+  /// ray_cast_blocks_with, the tree read with U.
+  template <Real U, Real T, std::size_t K>
+  MeshRayHit ray_cast_blocks(GWideBvh<T, K> const& block_bvh, Ray3 const& ray, float max_toi) const;
   std::vector<Vec3> vertices_;
   std::vector<std::array<std::uint32_t, 3>> indices_;
   std::vector<Triangle> tris_;
@@ -400,9 +420,9 @@ MeshRayHit TriangleMesh::ray_cast_with(GWideBvh<T, K> const& bvh, Ray3 const& ra
   return nearest.best;
 }
 
-template <Real T, std::size_t K>
-MeshRayHit TriangleMesh::ray_cast_blocks_with(GWideBvh<T, K> const& block_bvh, Ray3 const& ray,
-                                              float max_toi) const {
+template <Real U, Real T, std::size_t K>
+MeshRayHit TriangleMesh::ray_cast_blocks(GWideBvh<T, K> const& block_bvh, Ray3 const& ray,
+                                         float max_toi) const {
   // Leaf ids index blocks_: a tree of triangle leaves would read past them.
   if (block_bvh.leaf_count() != blocks_.size())
     throw std::invalid_argument("plume::TriangleMesh::ray_cast_blocks_with: not this mesh's "
@@ -410,15 +430,15 @@ MeshRayHit TriangleMesh::ray_cast_blocks_with(GWideBvh<T, K> const& block_bvh, R
   if (!(max_toi >= 0.0f)) return {};
   detail::NearestTriangleHit nearest(ray, max_toi); // block boxes are tight (margin 0)
   detail::TriangleBlock const* const blocks = blocks_.data();
-  block_bvh.ray_query(
-      ray, max_toi, [&](ProxyId id, float) { return nearest.template test_block<T>(blocks[id]); },
+  block_bvh.template ray_query<U>(
+      ray, max_toi, [&](ProxyId id, float) { return nearest.template test_block<U>(blocks[id]); },
       [&](ProxyId id) { detail::prefetch_node(&blocks[id]); });
   return nearest.best;
 }
 
 template <class F>
 void TriangleMesh::query_aabb(Aabb3 const& box, F&& f) const {
-  bvh_.query(box, [&](ProxyId id) {
+  bvh_.template query<f32xR>(box, [&](ProxyId id) {
     if constexpr (std::is_void_v<decltype(f(std::uint32_t(id)))>) {
       f(std::uint32_t(id));
       return true;

@@ -1,7 +1,10 @@
 // plume/spatial/wide_bvh.hpp - GWideBvh<T, K>: a K-ary copy of a GAabbTree for fast queries.
-// Each node keeps its K children's boxes as GAabb3<T> lanes (K / lanes_v<T> groups), so one
-// ray or box is tested against all of a node's children in K / lanes_v<T> batch operations;
-// the scalar build runs the same template with T = float, one child per group.
+// Each node keeps its K children's boxes coordinate by coordinate (an array of K per
+// coordinate), so one ray or box is tested against all of a node's children in K / lanes_v<T>
+// batch operations; the scalar build runs the same template with T = float, one child per
+// group. The layout depends on S and K only: every query can read the tree with another batch
+// U whose lanes divide K (ray_query<U>(...)), with the same results, which is how each
+// instruction set of a PLUME_DISPATCH=ON build walks one stored tree at its own width.
 //
 //   AabbTree tree;  ...inserts...;  tree.rebuild();
 //   WideBvh bvh(tree);                     // T = f32xN, K = max(4, lanes): 4, 8 or 16 children
@@ -36,6 +39,7 @@
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 namespace plume {
@@ -53,6 +57,25 @@ using TreeRayHit = GTreeRayHit<float>;
 template <Real T>
 inline constexpr std::size_t default_arity_v = lanes_v<T> < 4 ? 4 : lanes_v<T>;
 
+/// A node of K children, child c's box in lane c of each coordinate's array: the same type
+/// for every batch that reads it.
+template <Float S, std::size_t K>
+struct alignas(64) WideBvhNode {
+  std::array<S, K> lo_x, lo_y, lo_z, hi_x, hi_y, hi_z;
+  std::array<std::uint32_t, K> child;
+
+  /// The boxes of children g * lanes_v<U> .. (g + 1) * lanes_v<U> - 1 as lanes of U.
+  template <Real U>
+  PLUME_INLINE GAabb3<U> box(std::size_t g) const noexcept {
+    static_assert(std::is_same_v<scalar_t<U>, S> && K % lanes_v<U> == 0);
+    std::size_t const o = g * lanes_v<U>;
+    return {{plume::load_aligned<U>(&lo_x[o]), plume::load_aligned<U>(&lo_y[o]),
+             plume::load_aligned<U>(&lo_z[o])},
+            {plume::load_aligned<U>(&hi_x[o]), plume::load_aligned<U>(&hi_y[o]),
+             plume::load_aligned<U>(&hi_z[o])}};
+  }
+};
+
 template <Real T, std::size_t K = default_arity_v<T>>
 class GWideBvh {
 public:
@@ -66,10 +89,7 @@ public:
   static constexpr std::uint32_t leaf_bit = 0x80000000u;
   static constexpr std::uint32_t empty_child = 0xffffffffu;
 
-  struct alignas(64) Node {
-    std::array<GAabb3<T>, groups> box; ///< child c is lane c % lanes of box[c / lanes]
-    std::array<std::uint32_t, K> child;
-  };
+  using Node = WideBvhNode<S, K>;
 
   GWideBvh() = default;
   explicit GWideBvh(GAabbTree<S> const& tree) { build(tree); }
@@ -92,49 +112,55 @@ public:
   std::size_t leaf_count() const noexcept { return leaves_; }
   std::vector<Node> const& nodes() const noexcept { return nodes_; }
 
+  // Every query reads the nodes lanes_v<U> children at a time: U = T unless given
+  // (bvh.template ray_query<f32x8>(...)), any element type of scalar S whose lanes divide K;
+  // the results do not depend on it.
+
   /// f(ProxyId, entry) for each leaf whose fat box the ray enters at entry in [0, max_toi],
   /// nearest first within each node; f returns the new max_toi (max_toi to go on, smaller to
   /// clip, negative to stop).
-  template <class F>
+  template <Real U = T, class F>
   void ray_query(GRay3<S> const& ray, S max_toi, F&& f) const {
-    walk_ray<false>(ray, GVec3<S>{}, max_toi, f, [](ProxyId) {});
+    walk_ray<U, false>(ray, GVec3<S>{}, max_toi, f, [](ProxyId) {});
   }
   /// ray_query that also calls met(ProxyId) for each leaf the ray enters as its node is
   /// visited, before f reaches it (or not, when the search stops or prunes first): the time
   /// to prefetch the leaf's data. met must not change anything f or the results depend on.
-  template <class F, class Met>
+  template <Real U = T, class F, class Met>
   void ray_query(GRay3<S> const& ray, S max_toi, F&& f, Met&& met) const {
-    walk_ray<false>(ray, GVec3<S>{}, max_toi, f, met);
+    walk_ray<U, false>(ray, GVec3<S>{}, max_toi, f, met);
   }
   /// ray_query with every fat box grown by `grow` (>= 0) on each side: the leaves a box of
   /// half extents `grow` centred on the ray's origin may meet while it moves along the ray
   /// (a shape cast's candidates, nearest first).
-  template <class F>
+  template <Real U = T, class F>
   void swept_query(GRay3<S> const& ray, GVec3<S> const& grow, S max_toi, F&& f) const {
-    walk_ray<true>(ray, grow, max_toi, f, [](ProxyId) {});
+    walk_ray<U, true>(ray, grow, max_toi, f, [](ProxyId) {});
   }
 
   /// The least toi the leaf cast gives, ties to the lower proxy; leaf(ProxyId, S max_toi)
   /// returns the toi of the proxy's shape (a value above max_toi, e.g. +infinity, is a miss).
-  template <class LeafCast>
+  template <Real U = T, class LeafCast>
   GTreeRayHit<S> ray_cast(GRay3<S> const& ray, S max_toi, LeafCast&& leaf) const;
 
   /// f(ProxyId) for each leaf whose fat box intersects `box` (touching counts), in the tree's
   /// order; f returns false to stop. Infinite bounds are allowed; a box with a NaN, or
   /// min > max on some axis, meets nothing.
-  template <class F>
+  template <Real U = T, class F>
   void query(GAabb3<S> const& box, F&& f) const;
 
 private:
-  template <bool Grown, class F, class Met>
+  template <Real U, bool Grown, class F, class Met>
   void walk_ray(GRay3<S> const& ray, GVec3<S> const& grow, S max_toi, F& f, Met&& on_met) const;
 
   std::vector<Node> nodes_;
   std::size_t leaves_ = 0;
 };
 
-/// The widest node the build has (f32xN lanes, at least 4 children).
-using WideBvh = GWideBvh<f32xS>;
+/// The tree of the structures that outlive a call (a mesh's trees, the broad phase's static
+/// copy): stored_lanes children, at least 4 (f32xN's lanes in a static build, 8 in a
+/// PLUME_DISPATCH=ON build); kernels read it with f32xR (bvh.template ray_query<f32xR>(...)).
+using WideBvh = GWideBvh<f32xS, (stored_lanes < 4 ? 4 : stored_lanes)>;
 
 // ------------------------------------------------------------------------ build
 
@@ -212,7 +238,7 @@ void GWideBvh<T, K>::build(GAabbTree<S> const& tree, LeafOf&& leaf_of) {
       kids[best + 1] = bin[opened].right;
       ++n;
     }
-    alignas(64) std::array<S, K> lo_x, lo_y, lo_z, hi_x, hi_y, hi_z;
+    std::array<S, K> lo_x, lo_y, lo_z, hi_x, hi_y, hi_z;
     std::array<std::uint32_t, K> child;
     S const inf = std::numeric_limits<S>::infinity();
     for (std::size_t i = 0; i < K; ++i) {
@@ -235,27 +261,25 @@ void GWideBvh<T, K>::build(GAabbTree<S> const& tree, LeafOf&& leaf_of) {
     }
     Node& node = nodes_[t.slot];
     node.child = child;
-    for (std::size_t g = 0; g < groups; ++g) {
-      std::size_t const o = g * lanes;
-      node.box[g] = GAabb3<T>{{plume::load_aligned<T>(&lo_x[o]), plume::load_aligned<T>(&lo_y[o]),
-                               plume::load_aligned<T>(&lo_z[o])},
-                              {plume::load_aligned<T>(&hi_x[o]), plume::load_aligned<T>(&hi_y[o]),
-                               plume::load_aligned<T>(&hi_z[o])}};
-    }
+    node.lo_x = lo_x, node.lo_y = lo_y, node.lo_z = lo_z;
+    node.hi_x = hi_x, node.hi_y = hi_y, node.hi_z = hi_z;
   }
 }
 
 // ------------------------------------------------------------------------ queries
 
 template <Real T, std::size_t K>
-template <bool Grown, class F, class Met>
+template <Real U, bool Grown, class F, class Met>
 void GWideBvh<T, K>::walk_ray(GRay3<S> const& ray, GVec3<S> const& grow, S max_toi, F& f,
                               Met&& on_met) const {
+  static_assert(std::is_same_v<scalar_t<U>, S> && K % lanes_v<U> == 0,
+                "a reading batch of the tree's scalar whose lanes divide its arity");
+  constexpr std::size_t L = lanes_v<U>;
   if (nodes_.empty() || !detail::usable_ray(ray) || !(max_toi >= S(0))) return;
-  [[maybe_unused]] GVec3<T> const g3 = detail::splat3<T>(grow);
+  [[maybe_unused]] GVec3<U> const g3 = detail::splat3<U>(grow);
   bool const neg[3] = {std::signbit(ray.dir.x), std::signbit(ray.dir.y), std::signbit(ray.dir.z)};
   auto const r =
-      detail::make_ray_slab(detail::splat3<T>(ray.origin), detail::splat3<T>(ray.dir), neg);
+      detail::make_ray_slab(detail::splat3<U>(ray.origin), detail::splat3<U>(ray.dir), neg);
   struct Entry {
     std::uint32_t ref;
     S entry;
@@ -273,16 +297,17 @@ void GWideBvh<T, K>::walk_ray(GRay3<S> const& ray, GVec3<S> const& grow, S max_t
     Node const& node = nodes_[e.ref];
     alignas(64) std::array<S, K> entry;
     std::uint64_t bits = 0;
-    T const limit = plume::splat<T>(max_toi);
-    for (std::size_t g = 0; g < groups; ++g) {
-      T en;
-      mask_t<T> m;
+    U const limit = plume::splat<U>(max_toi);
+    for (std::size_t g = 0; g < K / L; ++g) {
+      GAabb3<U> const b = node.template box<U>(g);
+      U en;
+      mask_t<U> m;
       if constexpr (Grown)
-        m = detail::ray_enters(r, node.box[g].min - g3, node.box[g].max + g3, limit, en);
+        m = detail::ray_enters(r, b.min - g3, b.max + g3, limit, en);
       else
-        m = detail::ray_enters(r, node.box[g].min, node.box[g].max, limit, en);
-      plume::store_aligned(&entry[g * lanes], en);
-      bits |= plume::bitmask(m) << (g * lanes);
+        m = detail::ray_enters(r, b.min, b.max, limit, en);
+      plume::store_aligned(&entry[g * L], en);
+      bits |= plume::bitmask(m) << (g * L);
     }
     // The children met, farthest pushed first (ties: higher slot first), nearest on top.
     std::array<Entry, K> met;
@@ -307,13 +332,13 @@ void GWideBvh<T, K>::walk_ray(GRay3<S> const& ray, GVec3<S> const& grow, S max_t
 }
 
 template <Real T, std::size_t K>
-template <class LeafCast>
+template <Real U, class LeafCast>
 auto GWideBvh<T, K>::ray_cast(GRay3<S> const& ray, S max_toi, LeafCast&& leaf) const
     -> GTreeRayHit<S> {
   GTreeRayHit<S> best;
   if (!(max_toi >= S(0))) return best;
   S limit = max_toi;
-  ray_query(ray, max_toi, [&](ProxyId id, S) {
+  ray_query<U>(ray, max_toi, [&](ProxyId id, S) {
     S const t = leaf(id, limit);
     // +infinity is a miss even for an infinite max_toi (where it is not above the limit).
     if (t <= limit && t < std::numeric_limits<S>::infinity() && (t < limit || id < best.proxy) &&
@@ -328,10 +353,13 @@ auto GWideBvh<T, K>::ray_cast(GRay3<S> const& ray, S max_toi, LeafCast&& leaf) c
 }
 
 template <Real T, std::size_t K>
-template <class F>
+template <Real U, class F>
 void GWideBvh<T, K>::query(GAabb3<S> const& box, F&& f) const {
+  static_assert(std::is_same_v<scalar_t<U>, S> && K % lanes_v<U> == 0,
+                "a reading batch of the tree's scalar whose lanes divide its arity");
+  constexpr std::size_t L = lanes_v<U>;
   if (nodes_.empty() || !bool(box.min.cmple(box.max).all())) return;
-  GAabb3<T> const q{detail::splat3<T>(box.min), detail::splat3<T>(box.max)};
+  GAabb3<U> const q{detail::splat3<U>(box.min), detail::splat3<U>(box.max)};
   detail::TraversalStack<std::uint32_t> stack;
   stack.push_back(0);
   while (!stack.empty()) {
@@ -342,8 +370,8 @@ void GWideBvh<T, K>::query(GAabb3<S> const& box, F&& f) const {
     }
     Node const& node = nodes_[ref];
     std::uint64_t bits = 0;
-    for (std::size_t g = 0; g < groups; ++g)
-      bits |= plume::bitmask(node.box[g].intersects(q)) << (g * lanes);
+    for (std::size_t g = 0; g < K / L; ++g)
+      bits |= plume::bitmask(node.template box<U>(g).intersects(q)) << (g * L);
     // Highest slot pushed first, so slot order is kept.
     while (bits) {
       auto const i = std::size_t(63 - std::countl_zero(bits));

@@ -140,7 +140,7 @@ public:
   template <class F>
   void query_static(Aabb3 const& box, F&& f) const {
     if (wide_fresh_)
-      static_wide_.query(box, f);
+      static_wide_.template query<f32xR>(box, f);
     else
       trees_[std::size_t(ProxyKind::static_body)].query(box, f);
   }
@@ -148,7 +148,7 @@ public:
   template <class F>
   void ray_static(Ray3 const& ray, float max_toi, F&& f) const {
     if (wide_fresh_)
-      static_wide_.ray_query(ray, max_toi, f);
+      static_wide_.template ray_query<f32xR>(ray, max_toi, f);
     else
       trees_[std::size_t(ProxyKind::static_body)].ray_query(ray, max_toi, f);
   }
