@@ -954,6 +954,77 @@ TEST_CASE("an edge passing near the origin with far ends gives a perpendicular v
   CHECK(bad == 0);
 }
 
+TEST_CASE("a sliver face of D far from the origin: v and the points from a near point",
+          "[collision][gjk][fuzz]") {
+  // Fuzz finding gjk_distance regress-sliver-face-far-from-origin: a triangle and a 5-vertex
+  // hull at one pose, the triangle's edge to (2, 2, 2) nearly parallel to the hull's edge along
+  // the diagonal (sine 3.5e-4), 3.0534e-4 apart (exact: rationals over the 15 points of D). The
+  // last simplex was the sliver of D = B - A those edges span, 6 units from the origin: the
+  // plane through its vertex y0 took n's rounding (eps / sin rad) times 6, a distance of
+  // 1.64e-4, and weights from cross products with y0 put the points 6.7e-4 off distance x
+  // normal.
+  Triangle const tri{{-0x1.575758p+0f, -0x1.575758p+0f, -0x1.57fb58p+0f},
+                     {-0x1.575758p+0f, 0x1.fc1bfcp+0f, -0x1.4bff4cp+0f},
+                     {0x1p+1f, 0x1p+1f, 0x1p+1f}};
+  ConvexHull const hull =
+      hull_of(std::vector<Vec3>{{0x1.666668p-1f, -0x1.7d02fep+0f, 0x1.7e83p+0f},
+                                {0x1.8p+0f, 0x1.8p+0f, 0x1.8p+0f},
+                                {-0x1.7d02fep+0f, -0x1.7d02fep+0f, -0x1.52ffd4p+0f},
+                                {-0x1.7ebefep+0f, -0x1.8p+0f, -0x1.8p+0f},
+                                {-0x1.8p+0f, -0x1.8p+0f, -0x1.8p+0f}});
+  Iso3 const pose{Quat{-0.5f, -0.5f, -0.5f, -0.5f}, {-4, -4, -4}};
+  for (Vec3 const axis : {Vec3{-1, -1, -1}, Vec3{}}) {
+    INFO("axis " << axis.x);
+    auto const g = closest_points(tri, pose, hull, pose, GjkConfig{}, axis);
+    REQUIRE(g.converged);
+    REQUIRE(!g.overlap);
+    CHECK(std::abs(double(g.distance) - 3.0533667e-4) <= 1e-5);
+    D3 const off = (to_d(g.point_b) - to_d(g.point_a)) - to_d(g.normal) * double(g.distance);
+    CHECK(off.length() <= 1e-5);
+  }
+
+  // Sliver triangles (sine 3.5e-4 to 1e-2, edges 2 to 8 long) 1e-4 to 1e-2 from a point that
+  // projects inside them, from four warm starts: the distance within the tolerance of the
+  // exact one (Ericson's closest point, double) and the points distance x normal apart. Before:
+  // 64 of 12,000 distances off by more than 2e-5 (up to 5.0e-5) and 168 point pairs (up to
+  // 2.3e-4); after, at most 2.9e-7 and 5.5e-7.
+  rng r(73);
+  int bad_distance = 0, bad_points = 0, checked = 0;
+  double worst_distance = 0, worst_points = 0;
+  for (int i = 0; i < 3000; ++i) {
+    Vec3 const u = r.unit3<float>();
+    Vec3 const side = u.any_orthonormal_vector();
+    Vec3 const up = u.cross(side);
+    float const h = float(std::pow(10.0, r.uniform(-4, -2)));
+    double const sine = std::pow(10.0, r.uniform(-3.45, -2));
+    double const l1 = r.uniform(1, 4), l2 = r.uniform(1, 4), l3 = r.uniform(-l2, l1);
+    double const width = sine * (l1 + l2), f = r.uniform(0.2, 0.8);
+    std::vector<Vec3> q{up * h + u * float(l1) - side * float(width * f),
+                        up * h - u * float(l2) - side * float(width * f),
+                        up * h + u * float(l3) + side * float(width * (1 - f))};
+    std::swap(q[0], q[std::size_t(i % 3)]);
+    double const exact = closest_on_triangle(D3{}, to_d(q[0]), to_d(q[1]), to_d(q[2])).length();
+    for (Vec3 const axis : {Vec3{}, Vec3{1, 1, 1}, q[0], q[2]}) {
+      auto const g =
+          closest_points(ConvexPolytope{q}, Iso3{}, Sphere{0}, Iso3{}, GjkConfig{}, axis);
+      REQUIRE(g.converged);
+      REQUIRE(!g.overlap);
+      ++checked;
+      double const err = std::abs(double(g.distance) - exact);
+      double const off =
+          ((to_d(g.point_b) - to_d(g.point_a)) - to_d(g.normal) * double(g.distance)).length();
+      worst_distance = std::max(worst_distance, err);
+      worst_points = std::max(worst_points, off);
+      bad_distance += err > 2e-5;
+      bad_points += off > 2e-5;
+    }
+  }
+  INFO("worst distance error " << worst_distance << ", points " << worst_points << " over "
+                               << checked << " queries");
+  CHECK(bad_distance == 0);
+  CHECK(bad_points == 0);
+}
+
 TEST_CASE("shape casts report contact points on their shapes and the contact normal",
           "[collision][gjk][cast][fuzz]") {
   // A point cast into a cylinder: the last simplex is a sliver triangle 7 units from the ray

@@ -80,14 +80,22 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
   // away, the sum cancels to |v| with the ends' rounding, which turns v off the perpendicular
   // and makes the supports along -v favour the edge's own ends (a GJK query then stops early,
   // far from the distance). The second projection leaves an error of eps |v| along e.
+  // Each edge's e . e, t and foot y0 + t e (on the whole line) are kept for the triangles.
+  std::array<GVec3<T>, 3> foot;
+  std::array<T, 3> edge_ee, edge_t;
+  // A candidate no lane's simplex has is skipped (its lanes would not be taken either, so
+  // every lane's answer is the same as without the test): early iterations, where the old
+  // simplex holds one or two points, pay for the edges alone.
   for (std::size_t i = 0; i < 3; ++i) {
+    if (!plume::any(s.present[i])) continue;
     GVec3<T> e = y[i] - y0;
     T ee = e.dot(e);
     T num = -y0.dot(e);
     mask_t<T> ok = s.present[i] & (ee > zero) & (num > zero) & (num < ee);
-    T safe_ee = plume::select(ok, ee, one<T>());
+    T safe_ee = plume::select(ee > zero, ee, one<T>());
     T t = num / safe_ee;
     GVec3<T> v = y0 + e * t;
+    foot[i] = v, edge_ee[i] = ee, edge_t[i] = t;
     v = v - e * (v.dot(e) / safe_ee);
     std::array<T, 4> l{one<T>() - t, zero, zero, zero};
     l[i + 1] = t;
@@ -96,28 +104,43 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
     take(ok & (v.dot(v) < best_d2), v, l, m);
   }
 
-  // Triangles {w, i, j}: with ei = yi - y0, ej = yj - y0 and n = ei x ej, the projection of
-  // the origin has the weights (ej x y0) . n and (y0 x ei) . n over |n|^2 for i and j, and the
-  // rest for w. From the edges, not from yj x y0 (the same vector in exact arithmetic): for a
-  // small triangle far from the query point that cross product of two long, nearly parallel
-  // vectors is all rounding, and the weights came out 1e-3 off (a cast's contact point 5e-3
-  // off a point shape).
+  // Triangles {w, i, j}: with ei = yi - y0, ej = yj - y0 and n = ei x ej, v is the origin's
+  // projection on the plane, along n (not the weighted sum of the y's): its direction then
+  // comes from the edges alone, accurate even when |v| is tiny next to the coordinates (a ray
+  // point a hair off a 1,000 m face), where the weighted sum is all cancellation noise. The
+  // plane is taken through r, the foot of the origin on the line of the longer edge from w,
+  // not through y0: n carries a rounding of eps / sin radians (sin: the sine of the angle at
+  // w), which moves the projection by that angle times the distance from the origin to the
+  // point the plane is taken through. A sliver (sin near sqrt(eps)) far from the origin then
+  // gave v eps |y0| / sin off: half the distance, 1.4e-4, for a face of D = B - A 6 units away
+  // with sin 3.5e-4 (two nearly parallel edges). r lies within the triangle's width (the
+  // other edge times sin) of the projection, so the error is eps |v| / sin plus the rounding
+  // floor. The weights likewise: r's (t on its edge) plus those of the short step d = v - r,
+  // by cross products with d over |n|^2 (from y0 they came out 1.2e-4 off, the points 6.7e-4
+  // off distance x normal); as before from the edges, not from the long vectors to the
+  // vertices (a small triangle far from the query point: all rounding, a cast's contact point
+  // 5e-3 off a point shape).
   constexpr std::size_t pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
   for (auto const& pr : pairs) {
     std::size_t const i = pr[0], j = pr[1];
+    if (!plume::any(s.present[i] & s.present[j])) continue;
     GVec3<T> ei = y[i] - y0, ej = y[j] - y0;
     GVec3<T> n = ei.cross(ej);
     T nn = n.dot(n);
-    mask_t<T> flat = nn <= eps * (ei.dot(ei) * ej.dot(ej));
+    T eii = edge_ee[i], ejj = edge_ee[j];
+    mask_t<T> flat = nn <= eps * (eii * ejj);
     T rn = one<T>() / plume::select(flat, one<T>(), nn);
-    T li = ej.cross(y0).dot(n) * rn;
-    T lj = y0.cross(ei).dot(n) * rn;
+    mask_t<T> along_i = eii >= ejj;
+    T t = plume::select(along_i, edge_t[i], edge_t[j]); // (e . e > 0 unless flat)
+    GVec3<T> r = GVec3<T>::select(along_i, foot[i], foot[j]);
+    GVec3<T> v = n * (r.dot(n) * rn);
+    GVec3<T> d = v - r;
+    T li = d.cross(ej).dot(n) * rn; // d = li ei + lj ej, then t joins the edge's weight
+    T lj = ei.cross(d).dot(n) * rn;
+    li = li + plume::select(along_i, t, zero);
+    lj = lj + plume::select(along_i, zero, t);
     T lw = (one<T>() - li) - lj;
     mask_t<T> ok = s.present[i] & s.present[j] & (!flat) & (lw > zero) & (li > zero) & (lj > zero);
-    // v along the face normal n (not the weighted sum of the y's): its direction then comes
-    // from the edges alone, accurate even when |v| is tiny next to the coordinates (a ray point
-    // a hair off a 1,000 m face), where the weighted sum is all cancellation noise.
-    GVec3<T> v = n * (y0.dot(n) * rn);
     std::array<T, 4> l{lw, zero, zero, zero};
     l[i + 1] = li;
     l[j + 1] = lj;
@@ -127,7 +150,7 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
   }
 
   // The tetrahedron: the origin inside when its four barycentric weights are positive.
-  {
+  if (plume::any((s.present[0] & s.present[1]) & s.present[2])) {
     GVec3<T> e0 = y[0] - y0, e1 = y[1] - y0, e2 = y[2] - y0;
     T det = e0.dot(e1.cross(e2));
     T scale = (e0.dot(e0) * e1.dot(e1)) * e2.dot(e2);
