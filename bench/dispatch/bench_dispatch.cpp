@@ -7,9 +7,9 @@
 // dispatch/world_rays/4096/... casts 4,096 rays into it through the batch World::ray_cast
 // (items = rays); dispatch/world_rays_level/4096/... casts 4,096 rays down at the static level
 // of scenes::add_level (a mesh, a height field, 40 boxes: the trees a dispatch build stores
-// 4 lanes wide); dispatch/project_velocities/1024/... projects 1,024 velocities against 0 to 8
-// planes each through project_velocities (items = problems; its static path is the same call
-// in a static build, whose one kernel is the build's own). Names are
+// stored_lanes (8) wide and each set reads at f32xR); dispatch/project_velocities/1024/... projects
+// 1,024 velocities against 0 to 8 planes each through project_velocities (items = problems; its
+// static path is the same call in a static build, whose one kernel is the build's own). Names are
 //   dispatch/<function>/<f32|f64>/<path>/<isa>     dispatch/world_<...>/<path>/<isa>
 // with path one of
 //   static       (any build but PLUME_DISPATCH=ON) the build's widest batch, the function
@@ -193,7 +193,7 @@ std::vector<plume::Ray3> const& pyramid_rays() {
 
 // The level of scenes::add_level (a mesh, a height field, 40 static boxes) alone, and 4,096
 // rays down at it from random points above: the static geometry's trees and triangle blocks,
-// which a dispatch build stores at the baseline's width (f32xS).
+// which a dispatch build stores stored_lanes (8) wide, read by each set at f32xR.
 plume::World const& level() {
   static plume::World const world = [] {
     plume::World w;

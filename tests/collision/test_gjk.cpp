@@ -984,7 +984,7 @@ TEST_CASE("a sliver face of D far from the origin: v and the points from a near 
   }
 
   // Sliver triangles (sine 3.5e-4 to 1e-2, edges 2 to 8 long) 1e-4 to 1e-2 from a point that
-  // projects inside them, from four warm starts: the distance within the tolerance of the
+  // projects near them, from four warm starts: the distance within the tolerance of the
   // exact one (Ericson's closest point, double) and the points distance x normal apart. Before:
   // 64 of 12,000 distances off by more than 2e-5 (up to 5.0e-5) and 168 point pairs (up to
   // 2.3e-4); after, at most 2.9e-7 and 5.5e-7.

@@ -7,7 +7,7 @@
 // instruction set of a PLUME_DISPATCH=ON build walks one stored tree at its own width.
 //
 //   AabbTree tree;  ...inserts...;  tree.rebuild();
-//   WideBvh bvh(tree);                     // T = f32xN, K = max(4, lanes): 4, 8 or 16 children
+//   WideBvh bvh(tree);                     // T = f32xS, K = max(4, stored_lanes): 4, 8 or 16
 //   auto hit = bvh.ray_cast(ray, 100.0f, [&](ProxyId id, float max_toi) {
 //     return toi_of_my_shape(id, ray, max_toi);   // +infinity (or > max_toi) for a miss
 //   });
@@ -80,6 +80,8 @@ template <Real T, std::size_t K = default_arity_v<T>>
 class GWideBvh {
 public:
   using S = scalar_t<T>;
+  /// The default reading batch's lanes and groups per node (a query given another U reads
+  /// K / lanes_v<U> groups).
   static constexpr std::size_t lanes = lanes_v<T>;
   static constexpr std::size_t arity = K;
   static constexpr std::size_t groups = K / lanes;

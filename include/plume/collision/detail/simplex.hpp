@@ -123,6 +123,7 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
   constexpr std::size_t pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
   for (auto const& pr : pairs) {
     std::size_t const i = pr[0], j = pr[1];
+    // (Implies both edges' guards above: foot, edge_t and edge_ee of i and j are set.)
     if (!plume::any(s.present[i] & s.present[j])) continue;
     GVec3<T> ei = y[i] - y0, ej = y[j] - y0;
     GVec3<T> n = ei.cross(ej);

@@ -131,7 +131,8 @@ public:
   std::array<AabbTree const*, proxy_kind_count> trees() const noexcept {
     return {&trees_[0], &trees_[1], &trees_[2], &trees_[3], &trees_[4]};
   }
-  /// A wide copy of the static tree (lanes of children per node, as GWideBvh), rebuilt with
+  /// A wide copy of the static tree (WideBvh: stored_lanes children per node, at least 4,
+  /// read at f32xR by the queries below), rebuilt with
   /// it: null while static bodies changed since the last optimize() (use tree() then). The
   /// same leaves as the static tree, found in fewer, wider steps.
   WideBvh const* static_wide() const noexcept { return wide_fresh_ ? &static_wide_ : nullptr; }
