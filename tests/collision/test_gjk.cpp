@@ -978,9 +978,9 @@ TEST_CASE("a sliver face of D far from the origin: v and the points from a near 
     auto const g = closest_points(tri, pose, hull, pose, GjkConfig{}, axis);
     REQUIRE(g.converged);
     REQUIRE(!g.overlap);
-    CHECK(std::abs(double(g.distance) - 3.0533667e-4) <= 1e-5);
+    CHECK(std::abs(double(g.distance) - 3.0533667e-4) <= 1e-6); // 1.2e-8 measured
     D3 const off = (to_d(g.point_b) - to_d(g.point_a)) - to_d(g.normal) * double(g.distance);
-    CHECK(off.length() <= 1e-5);
+    CHECK(off.length() <= 1e-6); // 5.8e-8 measured
   }
 
   // Sliver triangles (sine 3.5e-4 to 1e-2, edges 2 to 8 long) 1e-4 to 1e-2 from a point that
@@ -1015,8 +1015,8 @@ TEST_CASE("a sliver face of D far from the origin: v and the points from a near 
           ((to_d(g.point_b) - to_d(g.point_a)) - to_d(g.normal) * double(g.distance)).length();
       worst_distance = std::max(worst_distance, err);
       worst_points = std::max(worst_points, off);
-      bad_distance += err > 2e-5;
-      bad_points += off > 2e-5;
+      bad_distance += err > 2e-6; // worst measured 2.9e-7
+      bad_points += off > 2e-6;   // worst measured 5.5e-7
     }
   }
   INFO("worst distance error " << worst_distance << ", points " << worst_points << " over "

@@ -111,15 +111,13 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
   // plane is taken through r, the foot of the origin on the line of the longer edge from w,
   // not through y0: n carries a rounding of eps / sin radians (sin: the sine of the angle at
   // w), which moves the projection by that angle times the distance from the origin to the
-  // point the plane is taken through. A sliver (sin near sqrt(eps)) far from the origin then
-  // gave v eps |y0| / sin off: half the distance, 1.4e-4, for a face of D = B - A 6 units away
-  // with sin 3.5e-4 (two nearly parallel edges). r lies within the triangle's width (the
-  // other edge times sin) of the projection, so the error is eps |v| / sin plus the rounding
-  // floor. The weights likewise: r's (t on its edge) plus those of the short step d = v - r,
-  // by cross products with d over |n|^2 (from y0 they came out 1.2e-4 off, the points 6.7e-4
-  // off distance x normal); as before from the edges, not from the long vectors to the
-  // vertices (a small triangle far from the query point: all rounding, a cast's contact point
-  // 5e-3 off a point shape).
+  // point the plane is taken through: through y0, a sliver far from the origin gets v
+  // eps |y0| / sin off (docs/fuzzing.md, regress-sliver-face-far-from-origin). r lies within
+  // the triangle's width (the other edge times sin) of the projection, so the error is
+  // eps |v| / sin plus the rounding floor. The weights likewise: r's (t on its edge) plus
+  // those of the short step d = v - r, by cross products with d over |n|^2; from the edges,
+  // not from the long vectors to the vertices (for a small triangle far from the query point
+  // those cross products are all rounding).
   constexpr std::size_t pairs[3][2] = {{0, 1}, {0, 2}, {1, 2}};
   for (auto const& pr : pairs) {
     std::size_t const i = pr[0], j = pr[1];
