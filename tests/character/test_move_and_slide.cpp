@@ -6,6 +6,7 @@
 #include "../common/types.hpp"
 #include "../spatial/mesh_support.hpp"
 
+#include <plume/collision/epa.hpp>
 #include <plume/solver/character/collider_set.hpp>
 #include <plume/solver/character/move_and_slide.hpp>
 #include <plume/solver/world/move_query.hpp>
@@ -646,6 +647,138 @@ TEST_CASE("move and slide: a start deep inside is pushed out over calls, never s
   CHECK(pushed_out);
   CHECK(p.x - 0.3f >= 1.0f);            // outside the box's +x face ...
   CHECK(p.x - 0.3f <= 1.0f + 2 * skin); // ... and then held at it by the walk
+}
+
+TEST_CASE("move and slide: a depenetration out of a narrow V does not push into what it "
+          "had not seen",
+          "[character][move][deep]") {
+  // A ball pressed 0.1 into both walls of a V whose normals are 138 degrees apart: the push
+  // out, 0.11 along each normal, is 0.31 up the V (depth over the cosine of the half angle),
+  // and a sloped overhang 0.02 above the ball (facing down and toward -z) lies in the way.
+  // The contacts were gathered within the skin only, so the overhang was no pair, and the
+  // push ended 0.16 deep in it with the depenetration reported converged (the fuzz target's
+  // deeper-after-depenetration-2: there the V was a half-space and a cylinder, the overhang a
+  // second half-space, and it was move_and_slide's last depenetration).
+  World w;
+  float const r = 0.5f, a = 69.0f * std::numbers::pi_v<float> / 180.0f;
+  auto const wall = [&](Vec3 const& n, float gap) {
+    return w
+        .create_body({.type = BodyType::static_body,
+                      .pose = Iso3::from_translation(-n * (r + gap)),
+                      .shape = HalfSpace{n}})
+        .id;
+  };
+  wall({std::sin(a), std::cos(a), 0}, -0.1f);
+  wall({-std::sin(a), std::cos(a), 0}, -0.1f);
+  wall(Vec3{0, -0.6f, -0.8f}, 0.02f); // the overhang
+  Sphere const ball{r};
+  auto const deepest = [&](Vec3 const& p) {
+    float d = 0.0f;
+    w.contact_query(ball, Iso3::from_translation(p), 1.0f, [&](ColliderId, Manifold const& m) {
+      d = std::max(d, -m.min_separation());
+      return true;
+    });
+    return d;
+  };
+  REQUIRE(deepest({0, 0, 0}) == Approx(0.1f).margin(1e-4f));
+  WorldMoveQuery const scene(w);
+  // Converged means out of everything, whatever the passes.
+  for (int passes : {16, 32}) {
+    INFO("passes " << passes);
+    MoveAndSlideConfig cfg;
+    cfg.depenetration.iterations = passes;
+    MoveDepenetration const d = depenetrate(scene, BodyShape{ball}, Iso3::IDENTITY, cfg);
+    CHECK((!d.converged || deepest(d.correction) <= 1e-3f));
+    if (passes == 32) { // three planes this far apart take 20-odd passes
+      CHECK(d.converged);
+      CHECK(deepest(d.correction) <= 1e-3f); // out of all three, the overhang included
+      CHECK(d.correction.z < -0.1f);         // up the V and out from under the overhang
+    }
+  }
+  auto const res = move_and_slide(scene, BodyShape{ball}, Iso3::IDENTITY, Vec3{}, 0.0f);
+  CHECK(deepest(res.position) <= 1e-3f);
+}
+
+TEST_CASE("move and slide: a depenetration moves at most one push per call, out of a slot "
+          "over several calls",
+          "[character][move][deep]") {
+  // A ball wedged 0.3 deep into both walls of a slot whose walls lean 5 degrees from
+  // vertical: the fix that satisfies both is 0.3 / cos(85 deg) = 3.4 up the slot. One call
+  // used to take all of it (the fuzz target's move-beyond-bound: 9.97 from four colliders
+  // and a rejection threshold of 0.89); now each call moves at most
+  // max_depenetration_move(cfg) and the calls go on until the ball is out.
+  World w;
+  float const r = 0.5f, a = 85.0f * std::numbers::pi_v<float> / 180.0f;
+  for (float side : {1.0f, -1.0f}) {
+    Vec3 const n{side * std::sin(a), std::cos(a), 0};
+    REQUIRE(w.create_body({.type = BodyType::static_body,
+                           .pose = Iso3::from_translation(-n * (r - 0.3f)),
+                           .shape = HalfSpace{n}}));
+  }
+  Sphere const ball{r};
+  auto const deepest = [&](Vec3 const& p) {
+    float d = 0.0f;
+    w.contact_query(ball, Iso3::from_translation(p), 1.0f, [&](ColliderId, Manifold const& m) {
+      d = std::max(d, -m.min_separation());
+      return true;
+    });
+    return d;
+  };
+  REQUIRE(deepest({0, 0, 0}) == Approx(0.3f).margin(1e-4f));
+  WorldMoveQuery const scene(w);
+  MoveAndSlideConfig const cfg;
+  float const most = max_depenetration_move(cfg);
+  REQUIRE(most == Approx(cfg.depenetration.rejection_threshold + cfg.skin));
+  MoveDepenetration const d = depenetrate(scene, BodyShape{ball}, Iso3::IDENTITY, cfg);
+  CHECK(d.correction.length() <= most * (1 + 1e-6f));
+  CHECK(d.correction.length() >= most * 0.99f); // cut, not dropped
+  CHECK_FALSE(d.converged);
+  CHECK(d.correction.y > 0.9f * d.correction.length()); // up the slot
+  Vec3 p{};
+  int calls = 0;
+  for (; calls < 20 && deepest(p) > 1e-3f; ++calls) {
+    auto const res =
+        move_and_slide(scene, BodyShape{ball}, Iso3::from_translation(p), Vec3{}, 0.0f, cfg);
+    REQUIRE(res.position.is_finite());
+    CHECK((res.position - p).length() <= 2 * most * (1 + 1e-6f));
+    p = res.position;
+  }
+  CHECK(deepest(p) <= 1e-3f);
+  CHECK(calls >= 3); // 3.4 at two pushes of 0.51 a call
+  CHECK(calls <= 6);
+}
+
+TEST_CASE("move and slide: a box straddling a lone triangle's plane is not pushed along its "
+          "face over the edge that clips it",
+          "[character][move][mesh]") {
+  // The fuzz target's deeper-after-depenetration: a box whose centre lies in the plane of a
+  // lone triangle (x = y), whose boundary edge clips the box's corner 0.0107 deep. Its
+  // normal points across the plane, so the mesh turns it to the face normal, and the gap of
+  // the witness points along that normal came out +0.0056: the depenetration pushed the box
+  // 0.059 along the face, which slid its side further over the edge, 0.0415 deep.
+  std::vector<Vec3> const v{{-3, -3, -2.7647059f},
+                            {-2.7647059f, -2.7647059f, 1.14941645f},
+                            {1.16470623f, 1.16470623f, 1.77409029f}};
+  std::vector<std::uint32_t> const idx{0, 1, 2};
+  auto built = TriangleMesh::build(v, idx);
+  REQUIRE(built.ok());
+  Triangle const tri = built.mesh.triangle(0);
+  Iso3 const mesh_at = Iso3::from_translation({-3, -3, -3});
+  World w;
+  REQUIRE(w.create_body(
+      {.type = BodyType::static_body,
+       .pose = mesh_at,
+       .shape = MeshShape{std::make_shared<TriangleMesh const>(std::move(built.mesh))}}));
+  Cuboid const box{{0.431764722f, 0.652848065f, 0.05f}};
+  Iso3 const start = Iso3::from_translation({-3, -3, -3});
+  float const before = penetration(box, start, tri, mesh_at).depth;
+  REQUIRE(before == Approx(0.0107f).margin(1e-4f));
+  MoveAndSlideConfig cfg;
+  cfg.skin = 0.0398039222f;
+  cfg.plane_distance = 2 * cfg.skin;
+  auto const r = move_and_slide(WorldMoveQuery(w), BodyShape{box}, start, Vec3{}, 0.0f, cfg);
+  REQUIRE(r.position.is_finite());
+  CHECK(penetration(box, Iso3::from_translation(r.position), tri, mesh_at).depth <= before);
 }
 
 TEST_CASE("move and slide: callbacks that set NaN, and |v| dt beyond a float",

@@ -10,9 +10,9 @@
 //  - non-finite pose, velocity or dt, or a negative dt: invalid_input, the input returned
 //    unchanged, nothing queried, no callback;
 //  - otherwise a finite position and velocity; at most cfg.iterations sweeps, each one cast
-//    (sweeps counts the sweeps cast), iterations + 2 contact queries, max_planes planes; a call
-//    moves at most iterations x max_move plus its depenetrations; dt = 0 sweeps nothing; deep_start
-//    sweeps nothing; nothing after an abort;
+//    (sweeps counts the sweeps cast), iterations + 2 x max_depenetration_queries contact
+//    queries, max_planes planes; a call moves at most iterations x max_move plus its
+//    depenetrations; dt = 0 sweeps nothing; deep_start sweeps nothing; nothing after an abort;
 //  - every hit the callback sees: a collider the scene has, a unit normal, finite point,
 //    position, velocity, distance (>= 0) and separation, its iteration in range, touching as
 //    documented (sweep hits always; contacts within skin + touch_tolerance); the result keeps
@@ -349,7 +349,7 @@ check_move(Q const& q, Shape const& shape, Move const& m, plume::MoveAndSlideCon
   // Every loop is bounded.
   PLUME_FUZZ_CHECK(r.sweeps >= 0 && r.sweeps <= std::max(cfg.iterations, 0));
   PLUME_FUZZ_CHECK(counted.casts == r.sweeps); // "sweeps cast"
-  PLUME_FUZZ_CHECK(counted.contact_queries <= r.sweeps + 2);
+  PLUME_FUZZ_CHECK(counted.contact_queries <= r.sweeps + 2 * plume::max_depenetration_queries);
   PLUME_FUZZ_CHECK(r.planes <= cfg.planes.max_planes);
   PLUME_FUZZ_CHECK(on_hit.calls <= std::size_t(r.sweeps) * (colliders + 1));
   if (m.dt == 0.0f || r.deep_start) PLUME_FUZZ_CHECK(r.sweeps == 0 && on_hit.calls == 0);
@@ -363,8 +363,7 @@ check_move(Q const& q, Shape const& shape, Move const& m, plume::MoveAndSlideCon
   if (on_hit.calls == 0 && cfg.user_planes.empty()) PLUME_FUZZ_CHECK(same(r.velocity, m.velocity));
   // At most iterations x max_move, plus the two depenetrations (and the rounding of far
   // coordinates, one ulp per addition).
-  float const push = 2.0f * (float(colliders) + 1.0f) *
-                     (std::max(cfg.depenetration.rejection_threshold, cfg.skin) + cfg.skin);
+  float const push = 2.0f * plume::max_depenetration_move(cfg);
   float const far =
       std::max(m.pose.translation.abs().max_element(), r.position.abs().max_element());
   float const ulps = 4.0f * float(r.sweeps + 3) * far * std::numeric_limits<float>::epsilon();

@@ -18,10 +18,12 @@
 //  1. Internal edges and sides (MeshContactConfig::correct_internal_edges). A shape sliding
 //     over the shared edge of two coplanar triangles would otherwise get the edge's normal,
 //     which points along the surface (a "ghost" bump). When a manifold's normal is not the
-//     face normal on the shape's side (further than MeshContactConfig::face_cosine from it)
-//     and either points to the far side or has every contact point on the triangle on an
-//     inactive feature, the normal becomes that face normal and each point's separation is
-//     measured along it (points beyond the prediction distance are dropped). An edge is inactive
+//     face normal on the shape's side (the side the centre of its box is on; for a centre in
+//     the triangle's plane, the side the normal points to), further than
+//     MeshContactConfig::face_cosine from it, and either points to the far side or has every
+//     contact point on the triangle on an inactive feature, the normal becomes that face
+//     normal and each point's separation is measured along it (points beyond the prediction
+//     distance are dropped). An edge is inactive
 //     when it is flat or concave seen from the shape's side (TriangleMesh's edge kinds, with
 //     convex and concave swapped behind the triangle); boundary, non-manifold and convex
 //     edges are active (a shape may really touch them edge-on); a vertex is inactive when
@@ -316,8 +318,14 @@ MeshContacts mesh_contacts(Mesh const& mesh, Iso3 const& mesh_pose, Shape const&
     Manifold m = contact_manifold(mesh.triangle(t), mesh_pose, shape, pose, cfg.manifold);
     if (m.empty()) continue;
     Vec3 const face = mesh_pose.transform_vector(mesh.face_normal(t));
-    // The shape's side of the triangle: where the centre of its box is.
-    bool const behind = (centre - mesh_pose.transform_point(mesh.triangle(t).a)).dot(face) < 0.0f;
+    // The shape's side of the triangle: where the centre of its box is; a centre in the
+    // plane (within the rounding of its height) is on the side the normal points to, so a
+    // shape straddling a lone triangle is pushed off the edge it overlaps, not across.
+    Vec3 const corner = mesh_pose.transform_point(mesh.triangle(t).a);
+    float const height = (centre - corner).dot(face);
+    float const rounding = 8.0f * std::numeric_limits<float>::epsilon() *
+                           (centre.abs().max_element() + corner.abs().max_element());
+    bool const behind = std::abs(height) <= rounding ? m.normal.dot(face) < 0.0f : height < 0.0f;
     float const along = m.normal.dot(behind ? -face : face);
     if (cfg.correct_internal_edges && along < cfg.face_cosine) {
       bool active = false;

@@ -8,7 +8,9 @@
 // The scene is any MoveQuery provider (the concept below): the world's (WorldMoveQuery in
 // solver/world/move_query.hpp) or a user's own set of colliders. The loop (Avian 0.6's):
 //  1. depenetrate: the contacts within the skin become push-out pairs (depth = skin -
-//     separation), solved by depenetrate(); the shape moves by the fix;
+//     separation), solved by depenetrate(); a fix longer than the distance the contacts came
+//     from gathers them again within |fix| + skin and solves again (depenetrate(query, ...));
+//     the shape moves by the fix;
 //  2. up to cfg.iterations sweeps: sweep = velocity * time left, stop when shorter than
 //     cfg.min_sweep. Cast the shape along it, cast length |sweep| + skin, initial overlaps
 //     that the motion leaves ignored; no hit: take the whole sweep and stop. A hit at cast
@@ -45,12 +47,14 @@
 // with invalid_input set (nothing is queried). dt = 0, or a sweep shorter than cfg.min_sweep
 // (1e-4: under 6 mm/s at 60 Hz), only depenetrates. Each sweep is at most cfg.max_move long, so
 // a call moves at most iterations x max_move whatever dt is (|v| dt beyond a float's range
-// included). A shape that starts deeper than the depenetration's rejection threshold in
-// something is pushed out by that much per call and does not sweep (deep_start). A callback
-// that sets a non-finite position or velocity is not followed (the previous value is kept). Every
-// loop is bounded: cfg.iterations sweeps, cfg.depenetration.iterations passes, at most
-// cfg.planes.max_planes planes. A sweep blocked at once by planes it cannot satisfy (an
-// acute wedge) leaves the velocity zero: the character stops, it does not jitter.
+// included), plus its two depenetrations, each at most max_depenetration_move(cfg) long. A shape
+// that starts deeper than the depenetration's rejection threshold in something is pushed out by
+// that much per call and does not sweep (deep_start). A callback that sets a non-finite position or
+// velocity is not followed (the previous value is kept). Every loop is bounded: cfg.iterations
+// sweeps, cfg.depenetration.iterations passes, at most max_depenetration_queries contact queries
+// per depenetration, at most cfg.planes.max_planes planes. A sweep blocked at once by planes it
+// cannot satisfy (an acute wedge) leaves the velocity zero: the character stops, it does not
+// jitter.
 #pragma once
 
 #include <plume/math/iso3.hpp>
@@ -237,10 +241,25 @@ void intersections(Q const& query, typename Q::shape_type const& shape, Iso3 con
 
 /// The result of depenetrate(query, ...).
 struct MoveDepenetration {
-  Vec3 correction{};     ///< the translation to apply
-  bool converged = true; ///< a pass moved less than cfg.depenetration.max_error (or no pairs)
-  bool deep = false;     ///< a contact was deeper than cfg.depenetration.rejection_threshold
+  Vec3 correction{}; ///< the translation to apply
+  /// A pass moved less than cfg.depenetration.max_error (or no pairs), and the correction
+  /// stays within the distance the contacts were gathered from (nothing unseen in the way).
+  bool converged = true;
+  bool deep = false; ///< a contact was deeper than cfg.depenetration.rejection_threshold
 };
+
+/// Contact queries one depenetrate(query, ...) makes at most: the first within the skin, and
+/// further ones while the correction leaves the distance gathered so far.
+inline constexpr int max_depenetration_queries = 4;
+
+/// The longest correction one depenetrate(query, ...) gives: one push of the rejection
+/// threshold out to the skin, max(cfg.depenetration.rejection_threshold, cfg.skin) + cfg.skin
+/// (length units). Fixes out of a narrow V (the depths over the cosine of its half angle) or
+/// from several deep contacts can be far longer; they are cut to this length along their
+/// direction and reported not converged, and the next call goes on.
+inline float max_depenetration_move(MoveAndSlideConfig const& cfg) noexcept {
+  return std::max(cfg.depenetration.rejection_threshold, cfg.skin) + cfg.skin;
+}
 
 /// The depenetration step of move_and_slide on its own: every contact within cfg.skin
 /// pushed out to the skin (depenetrate() over the pairs). A contact deeper than
@@ -249,6 +268,15 @@ struct MoveDepenetration {
 /// that cannot all be satisfied (a corridor narrower than the shape plus two skins) get the
 /// mean of the fixes along one more pass (for two opposing planes, the push halfway between
 /// them) instead of whichever plane the last pass happened to end on.
+/// A correction longer than the distance its contacts were gathered from (a push out of a
+/// deep contact, or between planes at an obtuse angle, where the fix is the depths over the
+/// sine of the half angle) could carry the shape into a collider it never saw: the contacts
+/// are gathered again from the same pose within |correction| + skin, those not yet within
+/// the skin joining as pairs of negative depth (skin - separation: they push only when the
+/// fix comes nearer them than the skin), and the pairs solved again; at most
+/// max_depenetration_queries queries, and a correction still beyond the last distance is not
+/// converged. A correction within the skin (the usual case) makes one query. The correction
+/// is at most max_depenetration_move(cfg) long (a non-finite one is zero, not converged).
 template <MoveQuery Q>
 MoveDepenetration depenetrate(Q const& query, typename Q::shape_type const& shape, Iso3 const& pose,
                               MoveAndSlideConfig const& cfg = {},
@@ -256,35 +284,60 @@ MoveDepenetration depenetrate(Q const& query, typename Q::shape_type const& shap
   std::vector<Penetration3> pairs;
   MoveDepenetration out;
   float const limit = cfg.depenetration.rejection_threshold;
-  query.contacts(shape, pose, cfg.skin, filter, [&](MoveContact<typename Q::collider_id> const& c) {
-    if (!(c.separation < cfg.skin)) return true;
-    float depth = cfg.skin - c.separation;
-    if (depth > limit) {
-      out.deep = true;
-      depth = limit;
+  float reach = cfg.skin; // every collider within this of the shape at pose is a pair
+  for (int round = 1;; ++round) {
+    pairs.clear();
+    out = MoveDepenetration{};
+    query.contacts(shape, pose, reach, filter, [&](MoveContact<typename Q::collider_id> const& c) {
+      if (!(c.separation < reach)) return true;
+      float depth = cfg.skin - c.separation;
+      if (depth > limit) {
+        out.deep = true;
+        depth = limit;
+      }
+      pairs.push_back({c.normal, depth});
+      return true;
+    });
+    if (pairs.empty()) return out;
+    std::span<Penetration3 const> const view(pairs);
+    Depenetration3 const d = plume::depenetrate(view, cfg.depenetration);
+    out.correction = d.correction;
+    out.converged = bool(d.converged);
+    if (!out.converged) {
+      // One more pass from the result, keeping the mean of the fixes along it.
+      Vec3 fix = d.correction, sum{};
+      int n = 0;
+      for (Penetration3 const& q : pairs) {
+        float const need = q.depth - fix.dot(q.normal);
+        if (!(need > 0.0f)) continue;
+        fix = fix + q.normal * need;
+        sum = sum + fix;
+        ++n;
+      }
+      if (n > 0) out.correction = sum / float(n);
     }
-    pairs.push_back({c.normal, depth});
-    return true;
-  });
-  if (pairs.empty()) return out;
-  std::span<Penetration3 const> const view(pairs);
-  Depenetration3 const d = plume::depenetrate(view, cfg.depenetration);
-  out.correction = d.correction;
-  out.converged = bool(d.converged);
-  if (!out.converged) {
-    // One more pass from the result, keeping the mean of the fixes along it.
-    Vec3 fix = d.correction, sum{};
-    int n = 0;
-    for (Penetration3 const& q : pairs) {
-      float const need = q.depth - fix.dot(q.normal);
-      if (!(need > 0.0f)) continue;
-      fix = fix + q.normal * need;
-      sum = sum + fix;
-      ++n;
+    // At most one push per call (max_depenetration_move): a longer fix is cut to it.
+    float moved = out.correction.length();
+    if (!std::isfinite(moved)) {
+      out.correction = Vec3{};
+      out.converged = false;
+      return out;
     }
-    if (n > 0) out.correction = sum / float(n);
+    float const most = max_depenetration_move(cfg);
+    if (moved > most) {
+      out.correction = out.correction * (most / moved);
+      moved = out.correction.length();
+      out.converged = false;
+    }
+    // Within what was gathered: nothing unseen can be reached (a collider beyond reach
+    // stays beyond reach - |correction| >= 0).
+    if (!(moved > reach)) return out;
+    if (round >= max_depenetration_queries) {
+      out.converged = false;
+      return out;
+    }
+    reach = moved + cfg.skin;
   }
-  return out;
 }
 
 /// The sweep of move_and_slide on its own: how far the shape can move along `motion` and
