@@ -412,44 +412,34 @@ std::array<S, 3> face_weights(epa_polytope<S> const& poly, typename epa_polytope
   return {l0, l1, S(1) - l0 - l1};
 }
 
-/// The barycentric weights of the point of face f (a triangle) nearest q, by the region
-/// q's projection falls in (the face, an edge, a vertex); weights >= 0 summing to 1.
+/// The barycentric weights of the point of face f's boundary nearest q, and its squared
+/// distance from q: of the three edges' nearest points (q's foot on the edge's line, clamped
+/// to its ends), the nearest (the first on ties). Called where q's projection falls outside
+/// f, whose nearest point is then on its boundary. Each foot comes from one dot product over
+/// the edge's squared length, accurate whatever the triangle's shape: the region tests of
+/// the usual closed form (differences of products of dot products) cancel to rounding on a
+/// sliver face, and put the point up to the sliver's length off the edge q lies on
+/// (docs/fuzzing.md, regress-hull-point-on-edge).
 template <ScalarReal S>
-std::array<S, 3> nearest_face_weights(epa_polytope<S> const& poly,
-                                      typename epa_polytope<S>::face const& f,
-                                      GVec3<S> const& q) noexcept {
-  GVec3<S> const& a = poly.vert[std::size_t(f.v[0])].p;
-  GVec3<S> const& b = poly.vert[std::size_t(f.v[1])].p;
-  GVec3<S> const& c = poly.vert[std::size_t(f.v[2])].p;
-  GVec3<S> const ab = b - a, ac = c - a, ap = q - a;
-  S const d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= S(0) && d2 <= S(0)) return {S(1), S(0), S(0)};
-  GVec3<S> const bp = q - b;
-  S const d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= S(0) && d4 <= d3) return {S(0), S(1), S(0)};
-  S const vc = d1 * d4 - d3 * d2;
-  if (vc <= S(0) && d1 >= S(0) && d3 <= S(0)) {
-    S const t = d1 / (d1 - d3);
-    return {S(1) - t, t, S(0)};
+std::pair<std::array<S, 3>, S> nearest_face_weights(epa_polytope<S> const& poly,
+                                                    typename epa_polytope<S>::face const& f,
+                                                    GVec3<S> const& q) noexcept {
+  std::array<S, 3> best{S(1), S(0), S(0)};
+  S best_d2 = infinity<S>();
+  for (std::size_t i = 0; i < 3; ++i) {
+    std::size_t const j = (i + 1) % 3;
+    GVec3<S> const& a = poly.vert[std::size_t(f.v[i])].p;
+    GVec3<S> const e = poly.vert[std::size_t(f.v[j])].p - a;
+    S const ee = e.length_squared();
+    S const t = ee > S(0) ? std::clamp((q - a).dot(e) / ee, S(0), S(1)) : S(0);
+    S const d2 = ((a + e * t) - q).length_squared();
+    if (!(d2 < best_d2)) continue;
+    best_d2 = d2;
+    best = {S(0), S(0), S(0)};
+    best[i] = S(1) - t;
+    best[j] = t;
   }
-  GVec3<S> const cp = q - c;
-  S const d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= S(0) && d5 <= d6) return {S(0), S(0), S(1)};
-  S const vb = d5 * d2 - d1 * d6;
-  if (vb <= S(0) && d2 >= S(0) && d6 <= S(0)) {
-    S const t = d2 / (d2 - d6);
-    return {S(1) - t, S(0), t};
-  }
-  S const va = d3 * d6 - d5 * d4;
-  if (va <= S(0) && (d4 - d3) >= S(0) && (d5 - d6) >= S(0)) {
-    S const t = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return {S(0), S(1) - t, t};
-  }
-  // Inside by these tests though not by face_weights' (rounding): clamp and renormalise.
-  S const denom = va + vb + vc;
-  if (!(denom > S(0))) return {S(1), S(0), S(0)};
-  S const v = std::max(vb, S(0)) / denom, w = std::max(vc, S(0)) / denom;
-  return {std::max(S(1) - v - w, S(0)), v, w};
+  return {best, best_d2};
 }
 
 /// The origin's projection on face bf, in barycentric weights of its vertices, applied to
@@ -461,7 +451,8 @@ std::array<S, 3> nearest_face_weights(epa_polytope<S> const& poly,
 /// nearest live face of nearly bf's orientation within 4 `slack` of its distance that holds
 /// its own projection and that D does not pass by more than `slack` (a support of `diff`),
 /// which `reported` then names (the normal and depth to report; otherwise bf); else from
-/// bf's point nearest the projection.
+/// the point of the polytope's surface nearest the projection (on bf's edges or a live
+/// face's).
 template <ScalarReal S, class Diff>
 std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly, Diff const& diff,
                                           typename epa_polytope<S>::face const& bf, S slack,
@@ -509,12 +500,27 @@ std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly, Diff cons
   if (!inside(l)) {
     // No face of that plane holds the projection (an approximate answer, or a sliver face
     // the projection misses by rounding): negative weights would extrapolate the points off
-    // the shapes, so the weights are those of the face's point nearest the projection, which
-    // keeps each point a convex combination of its shape's support points (on the shape) and
-    // moves their difference only by the projection's distance from the face (dropping the
-    // negative weights and renormalising would move it by that times the face's aspect
-    // ratio).
-    l = nearest_face_weights(poly, bf, q);
+    // the shapes, so the weights are those of the point of the polytope's surface (an edge
+    // of bf or of a live face) nearest the projection, which keeps each point a convex
+    // combination of its shape's support points (on the shape) and moves their difference
+    // only by the projection's distance from that point (dropping the negative weights and
+    // renormalising would move it by that times the face's aspect ratio). Of every face, not
+    // bf's alone: where the origin is a vertex of D that bf does not have (a neighbour has
+    // it, of nearly bf's plane but with weights a rounding below 0, or its distance off by
+    // its own normal's rounding on a sliver), bf's nearest point can be a whole edge away
+    // (docs/fuzzing.md, regress-shared-vertex).
+    auto [lb, best] = nearest_face_weights(poly, bf, q);
+    l = lb;
+    for (int k = 0; k < poly.nf; ++k) {
+      auto const& g = poly.faces[std::size_t(k)];
+      if (!g.alive) continue;
+      auto const [lg, dg] = nearest_face_weights(poly, g, q);
+      if (dg < best) {
+        best = dg;
+        f = g;
+        l = lg;
+      }
+    }
   }
   auto const& v0 = poly.vert[std::size_t(f.v[0])];
   auto const& v1 = poly.vert[std::size_t(f.v[1])];
