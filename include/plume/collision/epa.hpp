@@ -414,8 +414,8 @@ std::array<S, 3> face_weights(epa_polytope<S> const& poly, typename epa_polytope
 
 /// The barycentric weights of the point of face f's boundary nearest q, and its squared
 /// distance from q: of the three edges' nearest points (q's foot on the edge's line, clamped
-/// to its ends), the nearest (the first on ties). Called where q's projection falls outside
-/// f, whose nearest point is then on its boundary. Each foot comes from one dot product over
+/// to its ends), the nearest (the first on ties). Where q's projection falls outside f, this
+/// is f's nearest point. Each foot comes from one dot product over
 /// the edge's squared length, accurate whatever the triangle's shape: the region tests of
 /// the usual closed form (differences of products of dot products) cancel to rounding on a
 /// sliver face, and put the point up to the sliver's length off the edge q lies on
@@ -451,8 +451,7 @@ std::pair<std::array<S, 3>, S> nearest_face_weights(epa_polytope<S> const& poly,
 /// nearest live face of nearly bf's orientation within 4 `slack` of its distance that holds
 /// its own projection and that D does not pass by more than `slack` (a support of `diff`),
 /// which `reported` then names (the normal and depth to report; otherwise bf); else from
-/// the point of the polytope's surface nearest the projection (on bf's edges or a live
-/// face's).
+/// the point of the polytope's edges (bf's and every live face's) nearest the projection.
 template <ScalarReal S, class Diff>
 std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly, Diff const& diff,
                                           typename epa_polytope<S>::face const& bf, S slack,
@@ -511,7 +510,7 @@ std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly, Diff cons
     // (docs/fuzzing.md, regress-shared-vertex).
     auto [lb, best] = nearest_face_weights(poly, bf, q);
     l = lb;
-    for (int k = 0; k < poly.nf; ++k) {
+    for (int k = 0; k < poly.nf && best > S(0); ++k) {
       auto const& g = poly.faces[std::size_t(k)];
       if (!g.alive) continue;
       auto const [lg, dg] = nearest_face_weights(poly, g, q);

@@ -18,8 +18,9 @@
 //  1. Internal edges and sides (MeshContactConfig::correct_internal_edges). A shape sliding
 //     over the shared edge of two coplanar triangles would otherwise get the edge's normal,
 //     which points along the surface (a "ghost" bump). When a manifold's normal is not the
-//     face normal on the shape's side (the side the centre of its box is on; for a centre in
-//     the triangle's plane, the side the normal points to), further than
+//     face normal on the shape's side (the side the centre of its box is on; a centre in the
+//     triangle's plane is in front, or behind where the normal points behind and a contact
+//     point is on a feature active from behind, such as a boundary edge), further than
 //     MeshContactConfig::face_cosine from it, and either points to the far side or has every
 //     contact point on the triangle on an inactive feature, the normal becomes that face
 //     normal and each point's separation is measured along it (points beyond the prediction
@@ -318,14 +319,23 @@ MeshContacts mesh_contacts(Mesh const& mesh, Iso3 const& mesh_pose, Shape const&
     Manifold m = contact_manifold(mesh.triangle(t), mesh_pose, shape, pose, cfg.manifold);
     if (m.empty()) continue;
     Vec3 const face = mesh_pose.transform_vector(mesh.face_normal(t));
-    // The shape's side of the triangle: where the centre of its box is; a centre in the
-    // plane (within the rounding of its height) is on the side the normal points to, so a
-    // shape straddling a lone triangle is pushed off the edge it overlaps, not across.
+    // The shape's side of the triangle: where the centre of its box is. A centre in the
+    // plane (within the rounding of its height and of the box) is in front, unless the
+    // normal leans back and a contact point is on a feature active from behind (a boundary
+    // edge the shape straddles): then behind, so a shape straddling a lone triangle is
+    // pushed off the edge it overlaps, not across, and one centred on a floor goes up.
     Vec3 const corner = mesh_pose.transform_point(mesh.triangle(t).a);
     float const height = (centre - corner).dot(face);
     float const rounding = 8.0f * std::numeric_limits<float>::epsilon() *
-                           (centre.abs().max_element() + corner.abs().max_element());
-    bool const behind = std::abs(height) <= rounding ? m.normal.dot(face) < 0.0f : height < 0.0f;
+                           (std::max(box.min.abs().max_element(), box.max.abs().max_element()) +
+                            corner.abs().max_element());
+    bool behind = height < 0.0f;
+    if (std::abs(height) <= rounding && m.normal.dot(face) < 0.0f) {
+      behind = false;
+      for (ContactPoint const& c : m)
+        behind = behind || detail::on_active_feature(
+                               mesh, t, mesh_pose.inverse_transform_point(c.point_a), true);
+    }
     float const along = m.normal.dot(behind ? -face : face);
     if (cfg.correct_internal_edges && along < cfg.face_cosine) {
       bool active = false;

@@ -49,12 +49,12 @@
 // a call moves at most iterations x max_move whatever dt is (|v| dt beyond a float's range
 // included), plus its two depenetrations, each at most max_depenetration_move(cfg) long. A shape
 // that starts deeper than the depenetration's rejection threshold in something is pushed out by
-// that much per call and does not sweep (deep_start). A callback that sets a non-finite position or
-// velocity is not followed (the previous value is kept). Every loop is bounded: cfg.iterations
-// sweeps, cfg.depenetration.iterations passes, at most max_depenetration_queries contact queries
-// per depenetration, at most cfg.planes.max_planes planes. A sweep blocked at once by planes it
-// cannot satisfy (an acute wedge) leaves the velocity zero: the character stops, it does not
-// jitter.
+// at most those two depenetrations per call and does not sweep (deep_start). A callback that sets a
+// non-finite position or velocity is not followed (the previous value is kept). Every loop is
+// bounded: cfg.iterations sweeps, cfg.depenetration.iterations passes, at most
+// max_depenetration_queries contact queries per depenetration, at most cfg.planes.max_planes
+// planes. A sweep blocked at once by planes it cannot satisfy (an acute wedge) leaves the velocity
+// zero: the character stops, it does not jitter.
 #pragma once
 
 #include <plume/math/iso3.hpp>
@@ -252,10 +252,11 @@ struct MoveDepenetration {
 /// further ones while the correction leaves the distance gathered so far.
 inline constexpr int max_depenetration_queries = 4;
 
-/// The longest correction one depenetrate(query, ...) gives: one push of the rejection
-/// threshold out to the skin, max(cfg.depenetration.rejection_threshold, cfg.skin) + cfg.skin
-/// (length units). Fixes out of a narrow V (the depths over the cosine of its half angle) or
-/// from several deep contacts can be far longer; they are cut to this length along their
+/// The longest correction one depenetrate(query, ...) gives: one pair's longest push (the
+/// rejection threshold, or the skin if larger) and a skin more,
+/// max(cfg.depenetration.rejection_threshold, cfg.skin) + cfg.skin (length units). Fixes out
+/// of a narrow V (the depths over the cosine of half the angle between the normals) or from
+/// several deep contacts can be far longer; they are cut to this length along their
 /// direction and reported not converged, and the next call goes on.
 inline float max_depenetration_move(MoveAndSlideConfig const& cfg) noexcept {
   return std::max(cfg.depenetration.rejection_threshold, cfg.skin) + cfg.skin;
@@ -270,13 +271,14 @@ inline float max_depenetration_move(MoveAndSlideConfig const& cfg) noexcept {
 /// them) instead of whichever plane the last pass happened to end on.
 /// A correction longer than the distance its contacts were gathered from (a push out of a
 /// deep contact, or between planes at an obtuse angle, where the fix is the depths over the
-/// sine of the half angle) could carry the shape into a collider it never saw: the contacts
-/// are gathered again from the same pose within |correction| + skin, those not yet within
-/// the skin joining as pairs of negative depth (skin - separation: they push only when the
+/// cosine of half the angle between the normals) could carry the shape into a collider it never
+/// saw: the contacts are gathered again from the same pose within |correction| + skin, those not
+/// yet within the skin joining as pairs of depth <= 0 (skin - separation: they push only when the
 /// fix comes nearer them than the skin), and the pairs solved again; at most
-/// max_depenetration_queries queries, and a correction still beyond the last distance is not
-/// converged. A correction within the skin (the usual case) makes one query. The correction
-/// is at most max_depenetration_move(cfg) long (a non-finite one is zero, not converged).
+/// max_depenetration_queries queries, and a correction still beyond the last distance is cut
+/// to it and not converged. A correction within the skin (the usual case) makes one query. The
+/// correction is at most max_depenetration_move(cfg) long (a non-finite one is zero, not
+/// converged).
 template <MoveQuery Q>
 MoveDepenetration depenetrate(Q const& query, typename Q::shape_type const& shape, Iso3 const& pose,
                               MoveAndSlideConfig const& cfg = {},
@@ -332,7 +334,8 @@ MoveDepenetration depenetrate(Q const& query, typename Q::shape_type const& shap
     // Within what was gathered: nothing unseen can be reached (a collider beyond reach
     // stays beyond reach - |correction| >= 0).
     if (!(moved > reach)) return out;
-    if (round >= max_depenetration_queries) {
+    if (round >= max_depenetration_queries) { // cut to what was gathered
+      out.correction = out.correction * (reach / moved);
       out.converged = false;
       return out;
     }
