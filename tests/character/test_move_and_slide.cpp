@@ -78,14 +78,23 @@ float spread(Walk const& w, int frames = 50) {
   return s;
 }
 
-/// The signed gap between the capsule at p and the world's nearest body (negative: overlap).
-float gap(World const& w, Vec3 const& p) {
+/// The signed gap between a shape at p and the world's nearest body within 1 (negative:
+/// overlap; +inf: nothing that near).
+template <class Shape>
+float gap(World const& w, Shape const& shape, Vec3 const& p) {
   float best = std::numeric_limits<float>::infinity();
-  w.contact_query(capsule, Iso3::from_translation(p), 1.0f, [&](ColliderId, Manifold const& m) {
+  w.contact_query(shape, Iso3::from_translation(p), 1.0f, [&](ColliderId, Manifold const& m) {
     best = std::min(best, m.min_separation());
     return true;
   });
   return best;
+}
+float gap(World const& w, Vec3 const& p) { return gap(w, capsule, p); }
+
+/// How deep a shape at p is in the world's deepest body (0: in none).
+template <class Shape>
+float deepest(World const& w, Shape const& shape, Vec3 const& p) {
+  return std::max(0.0f, -gap(w, shape, p));
 }
 
 Vec3 dir(float degrees) { // a horizontal unit direction, degrees from +x toward +z
@@ -672,14 +681,7 @@ TEST_CASE("move and slide: a depenetration out of a narrow V does not push into 
   wall({-std::sin(a), std::cos(a), 0}, -0.1f);
   wall(Vec3{0, -0.6f, -0.8f}, 0.02f); // the overhang
   Sphere const ball{r};
-  auto const deepest = [&](Vec3 const& p) {
-    float d = 0.0f;
-    w.contact_query(ball, Iso3::from_translation(p), 1.0f, [&](ColliderId, Manifold const& m) {
-      d = std::max(d, -m.min_separation());
-      return true;
-    });
-    return d;
-  };
+  auto const deepest = [&](Vec3 const& p) { return ::deepest(w, ball, p); };
   REQUIRE(deepest({0, 0, 0}) == Approx(0.1f).margin(1e-4f));
   WorldMoveQuery const scene(w);
   // Converged means out of everything, whatever the passes.
@@ -699,6 +701,72 @@ TEST_CASE("move and slide: a depenetration out of a narrow V does not push into 
   CHECK(deepest(res.position) <= 1e-3f);
 }
 
+namespace {
+/// A MoveQuery whose contacts are given: each query reports every listed contact whose
+/// separation is below the distance asked for, and counts the queries.
+struct ListedContacts {
+  using shape_type = Sphere;
+  using filter_type = int;
+  using collider_id = int;
+  std::vector<MoveContact<int>> list;
+  mutable int queries = 0;
+  std::optional<MoveCastHit<int>> cast(Sphere const&, Iso3 const&, Vec3 const&, int) const {
+    return std::nullopt;
+  }
+  template <class Sink>
+  void contacts(Sphere const&, Iso3 const&, float distance, int, Sink&& sink) const {
+    ++queries;
+    for (MoveContact<int> const& c : list)
+      if (c.separation < distance && !sink(c)) return;
+  }
+};
+} // namespace
+
+TEST_CASE("move and slide: depenetrate(query) on a contact without a direction, and a push "
+          "that keeps meeting more",
+          "[character][move][bad-input]") {
+  MoveAndSlideConfig const cfg;
+  SECTION("a NaN normal: the pair is ignored (depenetrate's contract)") {
+    ListedContacts q;
+    float const nan = std::numeric_limits<float>::quiet_NaN();
+    q.list = {{0, {}, {nan, 1, 0}, -0.1f}};
+    MoveDepenetration const d = depenetrate(q, Sphere{0.5f}, Iso3::IDENTITY, cfg);
+    CHECK(d.correction.length() == 0.0f);
+    CHECK(d.converged);
+  }
+  SECTION("a fix that overflows: no correction, not converged") {
+    // Depths near float's largest, allowed by a threshold as large, between walls 160
+    // degrees apart: the fix, the depths over cos(80 deg), is beyond float.
+    MoveAndSlideConfig huge = cfg;
+    huge.depenetration.rejection_threshold = 3e38f;
+    ListedContacts q;
+    float const a = 80.0f * std::numbers::pi_v<float> / 180.0f;
+    q.list = {{0, {}, {std::sin(a), std::cos(a), 0}, -3e38f},
+              {1, {}, {-std::sin(a), std::cos(a), 0}, -3e38f}};
+    MoveDepenetration const d = depenetrate(q, Sphere{0.5f}, Iso3::IDENTITY, huge);
+    CHECK(d.correction.length() == 0.0f);
+    CHECK_FALSE(d.converged);
+  }
+  SECTION("contacts at every distance: at most max_depenetration_queries queries, cut to the "
+          "last distance gathered") {
+    // Two walls 160 degrees apart push 3 m up the V; planes facing down lie 0.3, 0.6, ...
+    // above, each met only by a query that reaches it (ListedContacts ignores the pose, so
+    // every round sees the pairs as at the start).
+    ListedContacts q;
+    float const a = 80.0f * std::numbers::pi_v<float> / 180.0f;
+    q.list = {{0, {}, {std::sin(a), std::cos(a), 0}, -0.25f},
+              {1, {}, {-std::sin(a), std::cos(a), 0}, -0.25f}};
+    for (int k = 1; k <= 12; ++k)
+      q.list.push_back({2 + k, {}, {0.1f, -0.99f, 0}, 0.04f * float(k)});
+    MoveDepenetration const d = depenetrate(q, Sphere{0.5f}, Iso3::IDENTITY, cfg);
+    CHECK(q.queries >= 2);
+    CHECK(q.queries <= max_depenetration_queries);
+    CHECK(d.correction.is_finite());
+    CHECK(d.correction.length() <= max_depenetration_move(cfg) * (1 + 1e-6f));
+    CHECK_FALSE(d.converged);
+  }
+}
+
 TEST_CASE("move and slide: a depenetration moves at most one push per call, out of a slot "
           "over several calls",
           "[character][move][deep]") {
@@ -716,14 +784,7 @@ TEST_CASE("move and slide: a depenetration moves at most one push per call, out 
                            .shape = HalfSpace{n}}));
   }
   Sphere const ball{r};
-  auto const deepest = [&](Vec3 const& p) {
-    float d = 0.0f;
-    w.contact_query(ball, Iso3::from_translation(p), 1.0f, [&](ColliderId, Manifold const& m) {
-      d = std::max(d, -m.min_separation());
-      return true;
-    });
-    return d;
-  };
+  auto const deepest = [&](Vec3 const& p) { return ::deepest(w, ball, p); };
   REQUIRE(deepest({0, 0, 0}) == Approx(0.3f).margin(1e-4f));
   WorldMoveQuery const scene(w);
   MoveAndSlideConfig const cfg;
