@@ -294,8 +294,26 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
     // to x, sharper than the last advance's (by the angle x moved through), where that direction is
     // resolved (|v| above 64 times the rounding floor; else, as for a hit with no radius, v is
     // noise and the advance direction stays).
-    mask_t<T> resolved = nd2 > (splat<T>(S(64)) * floor) * (splat<T>(S(64)) * floor);
+    T resolved_d2 = (splat<T>(S(64)) * floor) * (splat<T>(S(64)) * floor);
+    mask_t<T> resolved = nd2 > resolved_d2;
     out.n = GVec3<T>::select((done_hit & advanced_ever) & resolved, step.v, out.n);
+    // A graze: x within the tolerance but moving away from the simplex's closest point c
+    // (v . r > 0). The ray came nearest c before x and never enters D after, so the hit is
+    // moved back to the ray's closest approach to c, t - (v . r) / (r . r), where the
+    // direction from c (v less its part along r) is across the ray: not a normal past the
+    // tangent. The distance there is at most |v|, still within reach, and that time is after
+    // the last advance's (the distance to c falls all the way to it, and was beyond reach there).
+    T vr_hit = step.v.dot(r);
+    T rr = r.dot(r);
+    mask_t<T> receding_hit =
+        (((done_hit & advanced_ever) & resolved) & (vr_hit > zero)) & (rr > zero);
+    if (plume::any(receding_hit)) {
+      T back = vr_hit / plume::select(receding_hit, rr, one<T>());
+      GVec3<T> across = step.v - r * back;
+      mask_t<T> graze = receding_hit & (across.dot(across) > resolved_d2);
+      out.toi = plume::select(graze, plume::max_select(out.toi - back, zero), out.toi);
+      out.n = GVec3<T>::select(graze, across, out.n);
+    }
     v = GVec3<T>::select(take, step.v, v);
     d2_ref = plume::select(take, nd2, d2_ref);
     out.failed = out.failed | (active & bad);

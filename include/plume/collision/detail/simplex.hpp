@@ -148,12 +148,24 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
     take(ok & (v.dot(v) < best_d2), v, l, m);
   }
 
-  // The tetrahedron: the origin inside when its four barycentric weights are positive.
+  // The tetrahedron: the origin inside when its four barycentric weights are positive. Two
+  // thresholds on |det| against |e0| |e1| |e2|:
+  // - within 64 eps (its rounding is a few eps of that) det's sign is in doubt: flat, skipped;
+  // - above that, the inside test holds (a weight's rounding moves it by about eps |y0| over
+  //   the sine of a face's angle, however flat the tetrahedron), so a point inside a sliver
+  //   3 m long and 6 mm thick is found inside (docs/fuzzing.md, hit-point-off-surface);
+  // - but only above sqrt(eps) are the weights good enough to make the closest points from
+  //   (sums of supports metres apart, whose error grows as the tetrahedron flattens: 1e-2 for
+  //   a triangle and a cylinder, shape_cast regress-near-flat-tetra-witness). Between the two,
+  //   an origin inside keeps the nearest face's (or edge's) v and weights and is flagged
+  //   inside: the query stops there with those points.
   if (plume::any((s.present[0] & s.present[1]) & s.present[2])) {
     GVec3<T> e0 = y[0] - y0, e1 = y[1] - y0, e2 = y[2] - y0;
     T det = e0.dot(e1.cross(e2));
     T scale = (e0.dot(e0) * e1.dot(e1)) * e2.dot(e2);
-    mask_t<T> flat = det * det <= eps * scale;
+    T flat_k = splat<T>(scalar_t<T>(64)) * eps;
+    mask_t<T> flat = det * det <= (flat_k * flat_k) * scale;
+    mask_t<T> sliver = det * det <= eps * scale;
     T rd = one<T>() / plume::select(flat, one<T>(), det);
     T l0 = -y0.dot(e1.cross(e2)) * rd;
     T l1 = -e0.dot(y0.cross(e2)) * rd; // e0 . ((0 - y0) x e2)
@@ -161,7 +173,7 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
     T lw = (one<T>() - l0 - l1) - l2;
     mask_t<T> ok = (s.present[0] & s.present[1]) & (s.present[2] & (!flat)) &
                    ((l0 > zero) & (l1 > zero)) & ((l2 > zero) & (lw > zero));
-    take(ok, GVec3<T>{}, std::array<T, 4>{lw, l0, l1, l2}, {true, true, true});
+    take(ok & (!sliver), GVec3<T>{}, std::array<T, 4>{lw, l0, l1, l2}, {true, true, true});
     best.inside = ok;
   }
 
