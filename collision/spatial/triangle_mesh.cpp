@@ -106,8 +106,7 @@ DVec3 scaled_normal_in_double(Triangle const& t) noexcept {
 } // namespace
 
 Vec3 detail::unit_face_normal(Triangle const& t) noexcept {
-  DVec3 const dn = scaled_normal_in_double(t).normalize_or_zero();
-  return Vec3{float(dn.x), float(dn.y), float(dn.z)};
+  return detail::unit_normal_in_double(t.a, t.b, t.c); // the triangle cast's, bit for bit
 }
 
 EdgeKind detail::edge_kind(Vec3 const& n, Vec3 const& m, Vec3 const& p, Vec3 const& r,

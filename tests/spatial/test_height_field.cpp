@@ -205,6 +205,29 @@ TEST_CASE("height field: contacts and shape casts are the mesh's", "[spatial][he
   CHECK(cast_hits > 100);
 }
 
+TEST_CASE("height field: a ray with a tiny direction is cast like the mesh's",
+          "[spatial][heightfield][fuzz]") {
+  // A posed ray of direction (0, 1e-35, 0) became (1.0e-35, 6.1e-38, 6.1e-38) in the field's
+  // frame: its squared length underflows to 0, which the field's walk took for a zero
+  // direction and found nothing, where the mesh (and the triangles) hit at toi 2.5e35 (a fuzz
+  // finding, height_field hit-differs-from-triangles). Only an all-zero direction is zero.
+  HeightField const f = field_of(9, 9, 1.0f, 1.0f);
+  TriangleMesh const m = mesh_of(f);
+  for (Ray3 const& ray :
+       {Ray3{{-1.0f, 1.0f, 3.3f}, {1e-35f, -2e-36f, 6.1e-38f}}, // onto the flat patch
+        Ray3{{2.2f, 4.0f, 3.3f}, {0.0f, -1e-35f, 0.0f}},
+        Ray3{{0.0f, 0.5f, 0.0f}, {0x1.aac6f6p-117f, 0x1.4a6p-124f, 0x1.4c1cp-124f}}}) {
+    REQUIRE(ray.dir.length_squared() == 0.0f);
+    MeshRayHit const want = m.ray_cast(ray, inf);
+    MeshRayHit const got = f.ray_cast(ray, inf);
+    CHECK(want.hit());
+    CHECK(got.triangle == want.triangle);
+    CHECK(same_bits(got.toi, want.toi));
+    CHECK(same_bits(got.normal, want.normal));
+    CHECK(got.back == want.back);
+  }
+}
+
 TEST_CASE("height field: bad input", "[spatial][heightfield][bad-input]") {
   std::vector<float> h(12, 0.0f);
   CHECK(HeightField::build(1, 12, h, 1.0f, 1.0f).error == HeightFieldError::too_small);

@@ -408,6 +408,47 @@ TEST_CASE("mesh ray casts find a hit exactly at a corner", "[mesh][ray][fuzz]") 
   CHECK(built.mesh.source_triangle(h.triangle) == 0);
 }
 
+TEST_CASE("mesh ray casts report the back face by the face normal beside a vertex 3e12 away",
+          "[mesh][ray][fuzz]") {
+  // A sliver with one vertex 3.3e12 away: the float cross product (b - a) x (c - a) cancels
+  // (its z, a difference of two products near 4.8e23, came out 0), so the triangle cast's
+  // normal was (0.999, -0.044, 0), 100 degrees off the face normal (-0.215, 0.009, 0.977),
+  // and a ray hitting the front face (face normal . dir = -21 with |dir| = 42.6) was reported
+  // back (a fuzz finding, triangle_mesh back-face-flag). Such lanes take the normal in double.
+  Vec3 const a{0x1.0f285ap+37f, 0x1.81bdb8p+41f, -0x1.aea93p+2f}, b{-2, -1, 0},
+      c{0x1.589fd8p+2f, -0x1.3c7abep+2f, 0x1.aa9bap+0f};
+  std::vector<Vec3> const v{a, b, c};
+  std::vector<std::uint32_t> const i{0, 1, 2};
+  auto const built = TriangleMesh::build(v, i);
+  REQUIRE(built.ok());
+  TriangleMesh const& m = built.mesh;
+  Ray3 const ray{{0x1.4b5448p+2f, 0x1.d07adp+2f, 0x1.5a5a6p+2f},
+                 {-0x1.d78bc2p+4f, -0x1.99ba84p+3f, -0x1.beaac8p+4f}};
+  float const max_toi = 29.0556183f;
+  Vec3 const n = m.face_normal(0);
+  REQUIRE(n.dot(ray.dir) < -0.4f * ray.dir.length()); // clearly the front face
+  RayHit const direct = ray_cast_local(Triangle{a, b, c}, ray, max_toi);
+  REQUIRE(direct.hit);
+  CHECK(direct.feature == 0.0f); // front
+  CHECK(same_bits(direct.normal, n));
+  MeshRayHit const h = m.ray_cast(ray, max_toi);
+  REQUIRE(h.hit());
+  CHECK_FALSE(h.back);
+  CHECK(same_bits(h.normal, n));
+  CHECK(h.toi == direct.toi);
+  for_each_block_bvh(m, [&](auto const& bvh) {
+    MeshRayHit const w = m.ray_cast_blocks_with(bvh, ray, max_toi);
+    CHECK_FALSE(w.back);
+    CHECK(same_bits(w.normal, n));
+  });
+  // From behind: the back face and the reversed normal.
+  Ray3 const behind{ray.origin + ray.dir * (2.0f * direct.toi), -ray.dir};
+  MeshRayHit const hb = m.ray_cast(behind, inf);
+  REQUIRE(hb.hit());
+  CHECK(hb.back);
+  CHECK(same_bits(hb.normal, -n));
+}
+
 TEST_CASE("mesh build drops and counts degenerate triangles", "[mesh][build]") {
   // Triangles: good, repeated vertex, collinear, good, tiny (|cross|^2 = 1e-24) but not degenerate.
   std::vector<Vec3> const v{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {2, 0, 0}, {1, 1, 0}, {0, 0, 1e-12f}};

@@ -53,6 +53,10 @@
 #include <plume/math/vec3.hpp>
 #include <plume/numerics.hpp>
 
+#include <cstddef>
+#include <limits>
+#include <type_traits>
+
 PLUME_MASK_CODE_BEGIN
 
 namespace plume {
@@ -583,6 +587,47 @@ PLUME_INLINE mask_t<T> owns_edge(T ex, T ey) noexcept {
 } // namespace detail
 
 namespace detail {
+/// The unit normal of (b - a) x (c - a) computed in double, rounded to float: what a mesh
+/// stores as a triangle's face normal (spatial/triangle_mesh.hpp, unit_face_normal); zero
+/// for a triangle whose double cross product is zero.
+inline GVec3<float> unit_normal_in_double(GVec3<float> const& a, GVec3<float> const& b,
+                                          GVec3<float> const& c) noexcept {
+  GVec3<double> const da{a.x, a.y, a.z}, db{b.x, b.y, b.z}, dc{c.x, c.y, c.z};
+  GVec3<double> const n = (db - da).cross(dc - da).normalize_or_zero();
+  return {static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)};
+}
+
+/// A triangle's unit normal along (b - a) x (c - a) (zero for a degenerate triangle). The
+/// float cross product loses every digit where its products cancel: beside an edge 3e12 long
+/// its z came out 0 and the normal 100 degrees off (so the back-face flag was wrong). Its
+/// error is below about 5 eps |b - a| |c - a|, so where |n|^2 >= 2^-16 |b - a|^2 |c - a|^2
+/// (the angle at a at least 2^-8 from 0 and 180 degrees) the float normal is within 1e-4
+/// rad; the other lanes (that one, a product that overflows or underflows) take the normal
+/// in double, the mesh's face normal bit for bit. Lane by lane, so any width gives the
+/// scalar bits.
+template <Real T>
+PLUME_INLINE GVec3<T> triangle_unit_normal(GTriangle<T> const& tri) noexcept {
+  using V = GVec3<T>;
+  using S = scalar_t<T>;
+  V const e1 = tri.b - tri.a, e2 = tri.c - tri.a;
+  V const m = e1.cross(e2);
+  V n = m.normalize_or(V{});
+  if constexpr (std::is_same_v<S, float>) {
+    T const m2 = m.length_squared();
+    mask_t<T> const sure =
+        plume::is_finite(m2) & (m2 >= plume::splat<T>(std::numeric_limits<float>::min())) &
+        (m2 >= plume::splat<T>(0x1p-16f) * (e1.length_squared() * e2.length_squared()));
+    if (!plume::all(sure)) [[unlikely]] {
+      for (std::size_t i = 0; i < lanes_v<T>; ++i)
+        if (!plume::lane(sure, i))
+          n = plume::with_lane(n, i,
+                               unit_normal_in_double(plume::lane(tri.a, i), plume::lane(tri.b, i),
+                                                     plume::lane(tri.c, i)));
+    }
+  }
+  return n;
+}
+
 /// The watertight triangle test after its set-up (ray_cast_local(GTriangle) below): A, B, C
 /// are the vertices minus the ray's origin with their components permuted so that z is the
 /// ray's largest axis (x, y the next ones, swapped when it points down z); (sx, sy, sz) the
@@ -662,7 +707,7 @@ PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& 
   V const& d = ray.dir;
   // The normal and the ray's validity first, so that the vertices and the ray need not stay
   // live to the end for them.
-  V const n = tri.scaled_normal().normalize_or(V{});
+  V const n = detail::triangle_unit_normal(tri);
   M const back = n.dot(d) > zero; // coming from behind: the back face
   V const facing = V::select(back, -n, n);
   M const valid = detail::ray_valid(ray);

@@ -199,8 +199,10 @@ void HeightField::visit_cells(Aabb3 const& box, F&& f) const {
 
 template <class F>
 void HeightField::walk_ray(Ray3 const& ray, Vec3 const& grow, float max_toi, F&& f) const {
+  // A zero direction is one whose components are all zero: a tiny one (1e-35, whose squared
+  // length underflows to 0) still reaches the triangles at a huge toi.
   if (levels_.empty() || !(max_toi >= 0.0f) || !bool(ray.origin.is_finite()) ||
-      !bool(ray.dir.is_finite()) || ray.dir.length_squared() == 0.0f)
+      !bool(ray.dir.is_finite()) || (ray.dir.x == 0.0f && ray.dir.y == 0.0f && ray.dir.z == 0.0f))
     return;
   float const inf = std::numeric_limits<float>::infinity();
   auto const enter = [&](Aabb3 const& b, float limit) {

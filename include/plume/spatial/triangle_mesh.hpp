@@ -342,18 +342,20 @@ struct NearestTriangleHit {
     Lanes const* const pc[3] = {&b.cx, &b.cy, &b.cz};
     for (std::size_t g = 0; g < TriangleBlock::size; g += lanes_v<T>) {
       // ray_cast_local(b.load<T>(g), ray, limit) with the ray's set-up done once: the
-      // permutation picks arrays instead of selecting lanes.
-      V const n = b.load<T>(g).scaled_normal().normalize_or(V{});
-      mask_t<T> const back = n.dot(d) > zero<T>();
-      V const facing = V::select(back, -n, n);
+      // permutation picks arrays instead of selecting lanes. The test does not use the normal,
+      // so it is computed (the same bits) only for a batch with a hit.
       auto const perm = [&](Lanes const* const* p) {
         auto const l = [&](int axis) { return plume::load_aligned<T>(p[axis]->data() + g); };
         return V{l(k[0]) - ox, l(k[1]) - oy, l(k[2]) - oz};
       };
-      GRayHit<T> const h = detail::watertight_sheared(perm(pa), perm(pb), perm(pc), tsx, tsy, tsz,
-                                                      facing, back, tvalid, plume::splat<T>(limit));
+      GRayHit<T> const h =
+          detail::watertight_sheared(perm(pa), perm(pb), perm(pc), tsx, tsy, tsz, V{},
+                                     no_lanes<T>(), tvalid, plume::splat<T>(limit));
       std::uint64_t bits = plume::bitmask(h.hit);
       if (bits == 0) continue;
+      V const n = detail::triangle_unit_normal(b.load<T>(g));
+      mask_t<T> const back = n.dot(d) > zero<T>();
+      V const facing = V::select(back, -n, n);
       alignas(64) std::array<float, lanes_v<T>> toi;
       plume::store_aligned(toi.data(), h.toi);
       for (; bits; bits &= bits - 1) {
@@ -364,9 +366,9 @@ struct NearestTriangleHit {
         if (toi[i] < limit || (toi[i] == limit && t < best.triangle)) {
           best.triangle = t;
           best.toi = toi[i];
-          best.normal = {plume::lane(h.normal.x, i), plume::lane(h.normal.y, i),
-                         plume::lane(h.normal.z, i)};
-          best.back = plume::lane(h.feature, i) == 1.0f;
+          best.normal = {plume::lane(facing.x, i), plume::lane(facing.y, i),
+                         plume::lane(facing.z, i)};
+          best.back = plume::lane(back, i);
           limit = toi[i];
         }
       }
