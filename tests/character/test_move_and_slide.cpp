@@ -842,6 +842,42 @@ TEST_CASE("move and slide: a box straddling a lone triangle's plane is not pushe
   CHECK(penetration(box, Iso3::from_translation(r.position), tri, mesh_at).depth <= before);
 }
 
+TEST_CASE("move and slide: a box in front of a triangle, hanging over its boundary edge, is "
+          "pushed off the edge",
+          "[character][move][mesh]") {
+  // The fuzz target's deeper-after-depenetration-3: the box above, its centre 0.071 in front
+  // of the triangle's plane, 0.0738 deep over its boundary edge. EPA's normal leans to the
+  // back; the mesh turned it to the face normal with a gap of +0.037 along it, inside the
+  // skin: both depenetrations pushed the box along the face (0.0027, then 0.0020), further
+  // over the edge: 0.0751, then 0.0762 deep, reported converged.
+  std::vector<Vec3> const v{{-3, -3, -2.7647059f},
+                            {-2.7647059f, -2.7647059f, 1.14941645f},
+                            {1.30533314f, 1.16470623f, 1.77409029f},
+                            {1.77647066f, 1.77647066f, 1.77647066f}};
+  std::vector<std::uint32_t> const idx{0, 1, 2, 2, 1, 3};
+  auto built = TriangleMesh::build(v, idx);
+  REQUIRE(built.ok());
+  Triangle const tri = built.mesh.triangle(0);
+  Iso3 const mesh_at = Iso3::from_translation({-3, -3, -3});
+  World w;
+  REQUIRE(w.create_body(
+      {.type = BodyType::static_body,
+       .pose = mesh_at,
+       .shape = MeshShape{std::make_shared<TriangleMesh const>(std::move(built.mesh))}}));
+  Cuboid const box{{0.431764722f, 0.652848065f, 0.05f}};
+  Iso3 const start = Iso3::from_translation({-3, -3, -3});
+  float const before = penetration(box, start, tri, mesh_at).depth;
+  REQUIRE(before == Approx(0.0738f).margin(1e-4f));
+  MoveAndSlideConfig cfg;
+  cfg.skin = 0.0398039222f;
+  cfg.plane_distance = 2 * cfg.skin;
+  auto const r = move_and_slide(WorldMoveQuery(w), BodyShape{box}, start, Vec3{}, 0.0f, cfg);
+  REQUIRE(r.position.is_finite());
+  CHECK(r.depenetrated);
+  float const after = penetration(box, Iso3::from_translation(r.position), tri, mesh_at).depth;
+  CHECK(after <= 0.0f); // off the edge (by the skin)
+}
+
 TEST_CASE("move and slide: callbacks that set NaN, and |v| dt beyond a float",
           "[character][move][bad-input]") {
   World w;

@@ -274,8 +274,8 @@ TEST_CASE("mesh_contacts: a shape straddling a lone triangle's plane, clipped by
     return std::pair{c.manifolds[0].manifold, penetration(box, pose, tri, at)};
   };
   // Centre in the plane: on neither side, so the edge's own normal and depth. (With the
-  // centre a few millimetres in front, the normal still leans back and is turned; that case
-  // is open: docs/fuzzing.md.)
+  // centre in front, the normal still leans back and is kept at this boundary edge: the next
+  // test.)
   for (float off : {0.0f, 1e-6f, -1e-6f}) { // within the rounding of the centre's height
     INFO("off " << off);
     auto const [m, p] = contact(off);
@@ -306,6 +306,39 @@ TEST_CASE("mesh_contacts: a shape straddling a lone triangle's plane, clipped by
   // "turned normal's gap" case of docs/fuzzing.md). A fix there should raise this to 63.
   CHECK(manifolds >= 42);
   CHECK(down == 0);
+}
+
+TEST_CASE("mesh_contacts: a shape in front of a triangle, hanging over its boundary edge, keeps "
+          "EPA's normal",
+          "[spatial][mesh]") {
+  // The move_and_slide fuzz target's deeper-after-depenetration-3: the box above, its centre
+  // 0.071 in front of the triangle's plane, overlapping the boundary edge c-a 0.0738 deep.
+  // EPA's normal (0.73, 0, -0.69) leans to the back (cosine -0.50 with the face normal). The
+  // mesh turned it to the face normal and measured the gap along it: +0.037 where the shapes
+  // overlap, and each depenetration pushed the box along the face, further over the edge.
+  // A normal toward the far side is kept at an edge no neighbour closes.
+  std::vector<Vec3> const v{{-3, -3, -2.7647059f},
+                            {-2.7647059f, -2.7647059f, 1.14941645f},
+                            {1.30533314f, 1.16470623f, 1.77409029f},
+                            {1.77647066f, 1.77647066f, 1.77647066f}};
+  auto built = TriangleMesh::build(v, std::vector<std::uint32_t>{0, 1, 2, 2, 1, 3});
+  REQUIRE(built.ok());
+  REQUIRE(built.mesh.edges(0).kind[2] == EdgeKind::boundary); // c-a
+  Iso3 const at = Iso3::from_translation({-3, -3, -3});
+  Cuboid const box{{0.431764722f, 0.652848065f, 0.05f}};
+  Vec3 const face = built.mesh.face_normal(0);
+  Triangle const tri = built.mesh.triangle(0);
+  for (float off : {0.0f, -0.069f, -0.05f, -0.02f, 0.01f}) { // centre 0.002 to 0.081 in front
+    INFO("off " << off);
+    Iso3 const pose = Iso3::from_translation(Vec3{-3, -3, -3} + face * off);
+    PenetrationResult const p = penetration(box, pose, tri, at);
+    REQUIRE(p.depth > 0.03f);
+    MeshContacts const c = mesh_contacts(built.mesh, at, box, pose);
+    REQUIRE(c.count == 1);
+    Manifold const& m = c.manifolds[0].manifold;
+    CHECK(m.normal.dot(face) < -0.4f);
+    CHECK(m.min_separation() == Approx(-p.depth).margin(1e-5f));
+  }
 }
 
 TEST_CASE("mesh_contacts: a group keeps its deepest points however many triangles it spans",
