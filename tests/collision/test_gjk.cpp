@@ -668,6 +668,24 @@ TEST_CASE("a cast grazing a rounded shape within the tolerance stops at its clos
       CHECK(std::abs(double((pb - Vec3{0, c, 0}).length()) - radius) <= 2 * tol);
     }
   }
+  // A graze whose closest approach is at or before the start: the start is within reach, a
+  // start in contact (penetrating, toi 0; a motion along the surface is then ignored), never
+  // a converged hit at toi 0 with a normal across the motion, which sliding cannot leave (the
+  // review's case; the first version of the rule moved toi back to 0 and left it so).
+  {
+    Capsule const cap{0x1.c7cc12p-11f, 0x1.e589dcp+0f};
+    Sphere const ball{0x1.91ac56p-2f};
+    Vec3 const from{0x1.159e9p+1f, -0x1.c1fdbap-11f, -0x1.76767ap-1f};
+    Vec3 const motion{0x1.7cfff8p-13f, 0x1.16ad06p+1f, -0x1.00f3f8p-14f};
+    for (bool stop : {false, true}) {
+      ShapeCastConfig cfg;
+      cfg.max_toi = 1;
+      cfg.stop_at_penetration = stop;
+      auto const sc = shape_cast(ball, Iso3::from_translation(from), motion, cap, Iso3{}, cfg);
+      INFO("stop_at_penetration " << stop << " hit " << sc.hit << " toi " << sc.toi);
+      CHECK(!(sc.hit && sc.toi == 0.0f && !sc.penetrating));
+    }
+  }
   INFO("worst along " << worst_along << " off " << worst_off << " cast " << worst_cast_along);
   CHECK(hits > 500);
   CHECK(cast_hits > 500);
@@ -919,7 +937,7 @@ TEST_CASE("a point inside a sliver tetrahedron is found inside", "[collision][gj
       float depth = 1e30f;
       for (auto const& f : sliver.faces())
         depth = std::min(depth, f.offset - f.normal.dot(p));
-      if (depth < 2e-4f * len) continue; // GJK's tolerance is 1e-4: clearly inside only
+      if (depth < 2e-4f * len) continue; // 20 times GJK's tolerance (1e-5): clearly inside
       ++cases;
       Vec3 const pw = at.transform_point(p);
       missed_cp += !closest_points(Sphere{0}, Iso3::from_translation(pw), sliver, at).overlap;
@@ -942,7 +960,7 @@ TEST_CASE("a cast's contact points do not come from a sliver tetrahedron's weigh
   // more than 1e-3 apart (6.4e-3 the worst), against 1.25e-4 with the rule.
   std::mt19937 g(5);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
-  int const casts = PLUME_TEST_UNOPTIMISED ? 6000 : 60000;
+  int const casts = 60000; // (the failures without the rule are at k >= 11,975: all builds)
   int hits = 0;
   double worst = 0;
   for (int k = 0; k < casts; ++k) {

@@ -228,6 +228,82 @@ TEST_CASE("height field: a ray with a tiny direction is cast like the mesh's",
   }
 }
 
+TEST_CASE("height field: a hit whose toi overflows float is a miss, as the triangles' and the mesh's",
+          "[spatial][heightfield][fuzz]") {
+  // height_field posed-ray-differs-from-triangles: a posed ray of direction (0, 1.9e-42, 0)
+  // became (1.9e-42, 0, -1.4e-45) in the field's frame, through two cells 2 and 5 units away
+  // along x: toi about 1e42, beyond float. The field's walk and the mesh's tree miss (a box
+  // entered at +infinity is a miss), but the triangle cast hit at toi +infinity: 1 / d.x
+  // overflows, and it compared toi with max_toi (+infinity) alone. A toi that overflows is a
+  // miss in every cast (collision/ray_cast.hpp), the triangle's too.
+  auto const triangles = [](auto const& mesh, Ray3 const& ray, float max_toi) {
+    MeshRayHit best;
+    for (std::uint32_t t = 0; t < mesh.triangle_count(); ++t) {
+      RayHit const h = ray_cast_local(Triangle(mesh.triangle(t)), ray, max_toi);
+      CHECK((!h.hit || std::isfinite(h.toi)));
+      if (h.hit && (h.toi < best.toi || (h.toi == best.toi && t < best.triangle))) {
+        best.triangle = t;
+        best.toi = h.toi;
+        best.normal = h.normal;
+        best.back = h.feature == 1.0f;
+      }
+    }
+    return best;
+  };
+  auto const same = [](MeshRayHit const& a, MeshRayHit const& b) {
+    return a.triangle == b.triangle && same_bits(a.toi, b.toi) && same_bits(a.normal, b.normal) &&
+           a.back == b.back;
+  };
+  SECTION("the finding") {
+    std::vector<float> const h{
+        0.0f, 0.0f, -0x1.e0f46p+1f, 0x1.194c5cp+2f, 0x1.7dcd8p-2f, 0x1.fe458p+1f, 0.0f,
+        -0x1.eee67p+1f, // z = 0
+        0.0f, 0.0f, -0x1.c84e48p+1f, 0.0f, 0x1.a8d4ap+0f, 0.5f, -0x1.1610d6p+2f,
+        -0x1.f82d78p+1f, // z = 1
+        -0x1.e1e462p+1f, 0x1.df1a54p-17f, -0.5f, -0x1.6db06cp+0f, 0.5f, 0x1.53de5p+0f, 0.5f,
+        0.0f, // z = 2
+        0.0f, 0.0f, 0x1.194c5cp+2f, -0x1.b9e2p-5f, 0.0f, 0.0f, 0.0f, 0.0f, // z = 3
+        0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, // z = 4
+        0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, // z = 5
+        0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0x1.19194p-3f, 0.0f}; // z = 6
+    auto const r = HeightField::build(8, 7, h, 1.0f, 1.0f);
+    REQUIRE(r.ok());
+    Iso3 const pose{Quat::from_xyzw(-0x1.002984p-1f, -0x1.ffe45p-2f, -0x1.ffe45p-2f,
+                                    -0x1.ffe45p-2f),
+                    Vec3::splat(-0x1.337374p+3f)};
+    Ray3 const ray{{-0x1.30ebfp+3f, -0x1.337374p+3f, -0x1.337374p+3f}, {0.0f, 0x1.554p-139f, 0.0f}};
+    Ray3 const local{pose.inverse_transform_point(ray.origin),
+                     pose.inverse_transform_vector(ray.dir)};
+    REQUIRE(same_bits(local.dir, Vec3{0x1.554p-139f, 0.0f, -0x1p-149f}));
+    MeshRayHit const want = triangles(r.field, local, inf);
+    CHECK(!want.hit());
+    CHECK(same(r.field.ray_cast(pose, ray, inf), want));
+    CHECK(same(r.field.ray_cast(local, inf), want));
+    CHECK(same(mesh_of(r.field).ray_cast(local, inf), want));
+  }
+  SECTION("directions 1e-30 to 1e-44 long across a field 8 units wide") {
+    // 1 / d overflows below about 3e-39 (subnormal d): from there the triangle's toi is
+    // +infinity before the division by its determinant.
+    HeightField const f = field_of(9, 9, 1.0f, 1.0f);
+    TriangleMesh const m = mesh_of(f);
+    int hits = 0, misses = 0;
+    for (float len : {1e-30f, 1e-37f, 1e-38f, 1e-39f, 1e-40f, 1e-42f, 1e-44f})
+      for (Vec3 const& dir : {Vec3{1.0f, 0.0f, 0.0f}, Vec3{0.0f, 0.0f, 1.0f},
+                              Vec3{1.0f, -0.01f, 0.2f}, Vec3{0.0f, -1.0f, 0.0f}})
+        for (float y : {-0.1f, 0.05f, 0.3f}) {
+          Ray3 const ray{dir.y < 0.0f ? Vec3{3.3f, 4.0f, 2.7f} : Vec3{-1.0f, y, 3.3f}, dir * len};
+          MeshRayHit const want = triangles(m, ray, inf);
+          INFO("len " << len << " dir " << dir.x << " " << dir.y << " " << dir.z << " y " << y);
+          CHECK(same(f.ray_cast(ray, inf), want));
+          CHECK(same(m.ray_cast(ray, inf), want));
+          hits += int(want.hit());
+          misses += int(!want.hit());
+        }
+    CHECK(hits > 10);   // the longer directions hit, at huge finite tois
+    CHECK(misses > 10); // the shortest overflow
+  }
+}
+
 TEST_CASE("height field: bad input", "[spatial][heightfield][bad-input]") {
   std::vector<float> h(12, 0.0f);
   CHECK(HeightField::build(1, 12, h, 1.0f, 1.0f).error == HeightFieldError::too_small);

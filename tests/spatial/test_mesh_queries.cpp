@@ -316,7 +316,7 @@ TEST_CASE("mesh_contacts: a shape in front of a triangle, hanging over its bound
   // EPA's normal (0.73, 0, -0.69) leans to the back (cosine -0.50 with the face normal). The
   // mesh turned it to the face normal and measured the gap along it: +0.037 where the shapes
   // overlap, and each depenetration pushed the box along the face, further over the edge.
-  // A normal toward the far side is kept at an edge no neighbour closes.
+  // A normal toward the far side is kept at a boundary edge.
   std::vector<Vec3> const v{{-3, -3, -2.7647059f},
                             {-2.7647059f, -2.7647059f, 1.14941645f},
                             {1.30533314f, 1.16470623f, 1.77409029f},
@@ -338,6 +338,30 @@ TEST_CASE("mesh_contacts: a shape in front of a triangle, hanging over its bound
     Manifold const& m = c.manifolds[0].manifold;
     CHECK(m.normal.dot(face) < -0.4f);
     CHECK(m.min_separation() == Approx(-p.depth).margin(1e-5f));
+  }
+
+  // The floor continued past c-a by a coplanar triangle: wound consistently the edge is flat,
+  // wound the other way it is non-manifold; either way the surface goes on, and no normal
+  // leaning to the back may push the box into it (the review's case: with non-manifold edges
+  // counted as open, a manifold 0.0738 deep along (0.73, 0, -0.69)).
+  Vec3 const dir = (v[2] - v[0]).normalize();
+  Vec3 const foot = v[0] + dir * (v[1] - v[0]).dot(dir);
+  std::vector<Vec3> w = v;
+  w.push_back(foot * 2.0f - v[1]); // v[1] mirrored across the line of c-a
+  for (bool flipped : {false, true}) {
+    INFO("flipped " << flipped);
+    std::vector<std::uint32_t> idx{0, 1, 2, 2, 1, 3};
+    if (flipped)
+      idx.insert(idx.end(), {2, 0, 4});
+    else
+      idx.insert(idx.end(), {0, 2, 4});
+    auto floor = TriangleMesh::build(w, idx);
+    REQUIRE(floor.ok());
+    REQUIRE(floor.mesh.edges(0).kind[2] == (flipped ? EdgeKind::non_manifold : EdgeKind::flat));
+    MeshContacts const c =
+        mesh_contacts(floor.mesh, at, box, Iso3::from_translation(Vec3{-3, -3, -3}));
+    for (int k = 0; k < c.count; ++k)
+      CHECK(c.manifolds[std::size_t(k)].manifold.normal.dot(face) > -0.4f);
   }
 }
 

@@ -451,7 +451,8 @@ std::pair<std::array<S, 3>, S> nearest_face_weights(epa_polytope<S> const& poly,
 /// nearest live face of nearly bf's orientation within 4 `slack` of its distance that holds
 /// its own projection and that D does not pass by more than `slack` (a support of `diff`),
 /// which `reported` then names (the normal and depth to report; otherwise bf); else from
-/// the point of the polytope's edges (bf's and every live face's) nearest the projection.
+/// the point of the polytope's surface nearest the projection: of the edges (bf's and every
+/// live face's), or, when those are all farther than `slack`, of a face's inside.
 template <ScalarReal S, class Diff>
 std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly, Diff const& diff,
                                           typename epa_polytope<S>::face const& bf, S slack,
@@ -516,6 +517,25 @@ std::pair<GVec3<S>, GVec3<S>> face_points(epa_polytope<S> const& poly, Diff cons
       auto const [lg, dg] = nearest_face_weights(poly, g, q);
       if (dg < best) {
         best = dg;
+        f = g;
+        l = lg;
+      }
+    }
+    // The surface's nearest point can lie inside a face, not on an edge: a face whose
+    // projection of q lies inside it is d = g.n . q - g.d from q, along its normal. Where
+    // the origin projects into a coplanar neighbour of a sliver bf (two faces of a flat
+    // quad of D split along its long diagonal, a ruled side of a cylinder and a segment's
+    // difference) whose distance is off by its normal's rounding beyond `slack`, the
+    // nearest edge point is up to the sliver's width away across the plane, while the
+    // neighbour's inside is that rounding away along the normal. Only when the edges'
+    // best is farther than `slack` (so an origin on an edge or a vertex keeps its edge).
+    for (int k = 0; k < poly.nf && best > slack * slack; ++k) {
+      auto const& g = poly.faces[std::size_t(k)];
+      if (!g.alive) continue;
+      std::array<S, 3> const lg = face_weights(poly, g, q);
+      S const h = g.n.dot(q) - g.d;
+      if (inside(lg) && h * h < best) {
+        best = h * h;
         f = g;
         l = lg;
       }

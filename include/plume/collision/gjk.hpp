@@ -297,12 +297,13 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
     T resolved_d2 = (splat<T>(S(64)) * floor) * (splat<T>(S(64)) * floor);
     mask_t<T> resolved = nd2 > resolved_d2;
     out.n = GVec3<T>::select((done_hit & advanced_ever) & resolved, step.v, out.n);
-    // A graze: x within the tolerance but moving away from the simplex's closest point c
-    // (v . r > 0). The ray came nearest c before x and never enters D after, so the hit is
-    // moved back to the ray's closest approach to c, t - (v . r) / (r . r), where the
-    // direction from c (v less its part along r) is across the ray: not a normal past the
-    // tangent. The distance there is at most |v|, still within reach, and that time is after
-    // the last advance's (the distance to c falls all the way to it, and was beyond reach there).
+    // A graze: x within reach but moving away from the simplex's closest point c
+    // (v . r > 0), so the ray was nearer c before x. The hit moves back to the ray's closest
+    // approach to c, t* = t - (v . r) / (r . r), where the distance to c is at most |v| (still
+    // within reach) and the direction from c (v less its part along r) is across the ray:
+    // not a normal past the tangent. (D may still be entered later along the ray; this
+    // earlier time is within reach anyway.) A t* at or before the start means the start is
+    // within reach: a start in contact (toi 0), as any other.
     T vr_hit = step.v.dot(r);
     T rr = r.dot(r);
     mask_t<T> receding_hit =
@@ -311,7 +312,9 @@ PLUME_INLINE cast_state<T> gjk_cast(SA const& sa, SB const& sb, GVec3<T> const& 
       T back = vr_hit / plume::select(receding_hit, rr, one<T>());
       GVec3<T> across = step.v - r * back;
       mask_t<T> graze = receding_hit & (across.dot(across) > resolved_d2);
-      out.toi = plume::select(graze, plume::max_select(out.toi - back, zero), out.toi);
+      T t_star = out.toi - back;
+      out.started_inside = out.started_inside | (graze & (t_star <= zero));
+      out.toi = plume::select(graze, plume::max_select(t_star, zero), out.toi);
       out.n = GVec3<T>::select(graze, across, out.n);
     }
     v = GVec3<T>::select(take, step.v, v);

@@ -598,13 +598,13 @@ inline GVec3<float> unit_normal_in_double(GVec3<float> const& a, GVec3<float> co
 }
 
 /// A triangle's unit normal along (b - a) x (c - a) (zero for a degenerate triangle). The
-/// float cross product loses every digit where its products cancel: beside an edge 3e12 long
-/// its z came out 0 and the normal 100 degrees off (so the back-face flag was wrong). Its
-/// error is below about 5 eps |b - a| |c - a|, so where |n|^2 >= 2^-16 |b - a|^2 |c - a|^2
-/// (the angle at a at least 2^-8 from 0 and 180 degrees) the float normal is within 1e-4
-/// rad; the other lanes (that one, a product that overflows or underflows) take the normal
-/// in double, the mesh's face normal bit for bit. Lane by lane, so any width gives the
-/// scalar bits.
+/// float cross product loses every digit where its products cancel (a sliver beside a very
+/// long edge: docs/fuzzing.md, regress-back-face-sliver-normal), which can turn the normal
+/// and the back-face flag. Its error is below about 5 eps |b - a| |c - a|, so where |n|^2 >=
+/// 2^-16 |b - a|^2 |c - a|^2 (the angle at a at least 2^-8 from 0 and 180 degrees) the float
+/// normal is within about 1.5e-4 rad; the other lanes (those, and products that overflow or
+/// underflow) take the normal in double, the mesh's face normal bit for bit. Lane by lane,
+/// so any width gives the scalar bits.
 template <Real T>
 PLUME_INLINE GVec3<T> triangle_unit_normal(GTriangle<T> const& tri) noexcept {
   using V = GVec3<T>;
@@ -684,7 +684,12 @@ PLUME_INLINE GRayHit<T> watertight_sheared(GVec3<T> const& A, GVec3<T> const& B,
     inside =
         edge_ok(su, Bx, By, Cx, Cy) & edge_ok(sv, Cx, Cy, Ax, Ay) & edge_ok(sw, Ax, Ay, Bx, By);
   }
-  M hit = valid & inside & (det != zero) & (t >= zero) & (t <= max_toi); // not const (see the top)
+  // A toi that overflows float (a direction too short for the distance: for a subnormal d_z,
+  // sz = 1 / d_z is +infinity already) is a miss, as in every closed form: t <= min(FLT_MAX,
+  // max_toi), which keeps a NaN max_toi (a miss) and differs from t <= max_toi only for
+  // t = +infinity with max_toi = +infinity.
+  M hit = valid & inside & (det != zero) & (t >= zero) &
+          (t <= plume::min_select(max_value<T>(), max_toi)); // not const (see the top)
   return {hit, plume::select(hit, t, infinity<T>()), detail::keep_where(hit, facing),
           plume::select(hit, plume::select(back, one<T>(), zero), -one<T>())};
 }
@@ -697,7 +702,8 @@ PLUME_INLINE GRayHit<T> watertight_sheared(GVec3<T> const& A, GVec3<T> const& B,
 /// edge-ownership rule makes rays through shared edges and vertices hit exactly one triangle
 /// of a consistently wound mesh: no leaks, no double hits. Both windings are hit; solid is
 /// ignored (a triangle has no inside); the normal is the unit geometric normal turned to face
-/// the ray. Rays in the triangle's plane and zero-area triangles miss.
+/// the ray. Rays in the triangle's plane and zero-area triangles miss, and so does a hit whose
+/// toi overflows float (a subnormal direction), as in the closed forms.
 template <Real T>
 PLUME_INLINE GRayHit<T> ray_cast_local(GTriangle<T> const& tri, GRay3<T> const& ray, T max_toi,
                                        bool = true) noexcept {

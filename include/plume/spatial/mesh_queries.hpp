@@ -22,8 +22,9 @@
 //     triangle's plane is in front, or behind where the normal points behind and a contact
 //     point is on a feature active from behind, such as a boundary edge), further than
 //     MeshContactConfig::face_cosine from it, and either points to the far side with no
-//     contact point on an edge no neighbour closes (boundary or non-manifold: there the
-//     shape hangs over the edge and EPA's normal pushes it off) or has every contact point on
+//     contact point on a boundary edge (there the shape hangs over the mesh's border and
+//     EPA's normal pushes it off; a non-manifold edge may be closed by a flipped neighbour or
+//     a fin, so it does not count) or has every contact point on
 //     the triangle on an inactive feature, the normal becomes that face
 //     normal and each point's separation is measured along it (points beyond the prediction
 //     distance are dropped). An edge is inactive
@@ -179,10 +180,10 @@ bool on_active_feature(Mesh const& mesh, std::uint32_t t, Vec3 const& p, bool be
   return any_on && active; // inside the face (no edge near) counts as inactive
 }
 
-/// Whether a contact at local point p of mesh triangle t lies on an edge no neighbour closes
-/// (boundary or non-manifold: active from either side), within on_active_feature's tolerance.
+/// Whether a contact at local point p of mesh triangle t lies on a boundary edge (no other
+/// triangle has it), within on_active_feature's tolerance.
 template <TriangleSource Mesh>
-bool on_open_edge(Mesh const& mesh, std::uint32_t t, Vec3 const& p) noexcept {
+bool on_boundary_edge(Mesh const& mesh, std::uint32_t t, Vec3 const& p) noexcept {
   Triangle const tri = mesh.triangle(t);
   std::array<Vec3, 3> const v{tri.a, tri.b, tri.c};
   float longest = 0.0f;
@@ -191,8 +192,7 @@ bool on_open_edge(Mesh const& mesh, std::uint32_t t, Vec3 const& p) noexcept {
   float const tol = 1e-4f * longest;
   TriangleEdges const edges = mesh.edges(t);
   for (std::size_t e = 0; e < 3; ++e)
-    if ((edges.kind[e] == EdgeKind::boundary || edges.kind[e] == EdgeKind::non_manifold) &&
-        segment_distance(p, v[e], v[(e + 1) % 3]) <= tol)
+    if (edges.kind[e] == EdgeKind::boundary && segment_distance(p, v[e], v[(e + 1) % 3]) <= tol)
       return true;
   return false;
 }
@@ -358,8 +358,8 @@ MeshContacts mesh_contacts(Mesh const& mesh, Iso3 const& mesh_pose, Shape const&
     }
     float const along = m.normal.dot(behind ? -face : face);
     if (cfg.correct_internal_edges && along < cfg.face_cosine) {
-      // A normal toward the far side is kept only at an edge no neighbour closes (a boundary
-      // edge the shape hangs over: EPA's normal pushes it off the edge; turned to the face
+      // A normal toward the far side is kept only at a boundary edge (the shape hangs over the
+      // mesh's border: EPA's normal pushes it off the edge; turned to the face
       // normal, the gap measured along it can be positive where the shapes overlap, and the
       // push slides the shape further over the edge). Elsewhere it would push the shape
       // through the surface.
@@ -367,7 +367,7 @@ MeshContacts mesh_contacts(Mesh const& mesh, Iso3 const& mesh_pose, Shape const&
       for (ContactPoint const& c : m) {
         Vec3 const p = mesh_pose.inverse_transform_point(c.point_a);
         active = active || (along >= 0.0f ? detail::on_active_feature(mesh, t, p, behind)
-                                          : detail::on_open_edge(mesh, t, p));
+                                          : detail::on_boundary_edge(mesh, t, p));
       }
       if (!active) {
         Vec3 const n = behind ? -face : face;

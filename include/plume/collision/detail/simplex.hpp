@@ -152,13 +152,14 @@ PLUME_INLINE simplex_step<T> closest_on_simplex(simplex<T> const& s, simplex_ver
   // thresholds on |det| against |e0| |e1| |e2|:
   // - within 64 eps (its rounding is a few eps of that) det's sign is in doubt: flat, skipped;
   // - above that, the inside test holds (a weight's rounding moves it by about eps |y0| over
-  //   the sine of a face's angle, however flat the tetrahedron), so a point inside a sliver
-  //   3 m long and 6 mm thick is found inside (docs/fuzzing.md, hit-point-off-surface);
+  //   the sine of a face's angle, however flat the tetrahedron), so a point inside a long,
+  //   thin sliver is found inside;
   // - but only above sqrt(eps) are the weights good enough to make the closest points from
-  //   (sums of supports metres apart, whose error grows as the tetrahedron flattens: 1e-2 for
-  //   a triangle and a cylinder, shape_cast regress-near-flat-tetra-witness). Between the two,
-  //   an origin inside keeps the nearest face's (or edge's) v and weights and is flagged
-  //   inside: the query stops there with those points.
+  //   (sums of supports far apart, whose error grows as the tetrahedron flattens). Between
+  //   the two, an origin inside keeps the v and weights of the nearest face or edge through w
+  //   (the face opposite w is not a candidate, so the two points can be up to the sliver's
+  //   thickness apart) and is flagged inside: the query stops there with those points.
+  // docs/fuzzing.md (regress-point-inside-sliver-tetrahedron) has the cases and numbers.
   if (plume::any((s.present[0] & s.present[1]) & s.present[2])) {
     GVec3<T> e0 = y[0] - y0, e1 = y[1] - y0, e2 = y[2] - y0;
     T det = e0.dot(e1.cross(e2));
