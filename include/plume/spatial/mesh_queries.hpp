@@ -161,19 +161,28 @@ inline float segment_distance(Vec3 const& p, Vec3 const& a, Vec3 const& b) noexc
   return (a + ab * t - p).length();
 }
 
-/// Whether a contact at local point p of mesh triangle t lies on an active feature.
-template <TriangleSource Mesh>
-bool on_active_feature(Mesh const& mesh, std::uint32_t t, Vec3 const& p, bool behind) noexcept {
-  Triangle const tri = mesh.triangle(t);
+/// Which edges of triangle tri (edge e from vertex e to e + 1) local point p lies on, within
+/// 1e-4 of the triangle's longest edge.
+inline std::array<bool, 3> edges_near(Triangle const& tri, Vec3 const& p) noexcept {
   std::array<Vec3, 3> const v{tri.a, tri.b, tri.c};
   float longest = 0.0f;
   for (int e = 0; e < 3; ++e)
     longest = std::max(longest, (v[std::size_t((e + 1) % 3)] - v[std::size_t(e)]).length());
   float const tol = 1e-4f * longest;
+  std::array<bool, 3> near{};
+  for (std::size_t e = 0; e < 3; ++e)
+    near[e] = segment_distance(p, v[e], v[(e + 1) % 3]) <= tol;
+  return near;
+}
+
+/// Whether a contact at local point p of mesh triangle t lies on an active feature.
+template <TriangleSource Mesh>
+bool on_active_feature(Mesh const& mesh, std::uint32_t t, Vec3 const& p, bool behind) noexcept {
+  std::array<bool, 3> const near = edges_near(mesh.triangle(t), p);
   TriangleEdges const edges = mesh.edges(t);
   bool any_on = false, active = false;
   for (std::size_t e = 0; e < 3; ++e)
-    if (segment_distance(p, v[e], v[(e + 1) % 3]) <= tol) {
+    if (near[e]) {
       any_on = true;
       active = active || edge_active(edges.kind[e], behind);
     }
@@ -184,16 +193,10 @@ bool on_active_feature(Mesh const& mesh, std::uint32_t t, Vec3 const& p, bool be
 /// triangle has it), within on_active_feature's tolerance.
 template <TriangleSource Mesh>
 bool on_boundary_edge(Mesh const& mesh, std::uint32_t t, Vec3 const& p) noexcept {
-  Triangle const tri = mesh.triangle(t);
-  std::array<Vec3, 3> const v{tri.a, tri.b, tri.c};
-  float longest = 0.0f;
-  for (int e = 0; e < 3; ++e)
-    longest = std::max(longest, (v[std::size_t((e + 1) % 3)] - v[std::size_t(e)]).length());
-  float const tol = 1e-4f * longest;
+  std::array<bool, 3> const near = edges_near(mesh.triangle(t), p);
   TriangleEdges const edges = mesh.edges(t);
   for (std::size_t e = 0; e < 3; ++e)
-    if (edges.kind[e] == EdgeKind::boundary && segment_distance(p, v[e], v[(e + 1) % 3]) <= tol)
-      return true;
+    if (near[e] && edges.kind[e] == EdgeKind::boundary) return true;
   return false;
 }
 
