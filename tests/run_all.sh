@@ -10,7 +10,8 @@
 #    also runs its dispatch tests and install;
 # 3. an AddressSanitizer + UndefinedBehaviorSanitizer build (avx2), tests only;
 #    a ThreadSanitizer build of the threaded step's test (sse2);
-#    a clang build (avx2), tests only;
+#    a clang build (avx2), tests only, which also builds the fuzz targets and runs each for a
+#    fixed number of executions (tools/fuzz.sh --runs);
 # 4. the cross-build determinism check: every deterministic build that ran (g++ and clang)
 #    must print the same golden hashes (each also compares with tests/determinism/golden.txt);
 # 5. every benchmark binary of the scalar and the widest variant, once, with a tiny time budget,
@@ -143,25 +144,28 @@ else
   failed+=("tsan build")
 fi
 
-step "clang (avx2): build"
+step "clang (avx2): build, with the fuzz targets"
 # Tests only, for the widest widths (each lane checked against clang's scalar path): the
 # clang build looks for what another compiler rejects or computes differently; the g++
-# builds cover the benchmarks and the scalar types' own tests.
+# builds cover the benchmarks and the scalar types' own tests. The same build carries the
+# fuzz targets (PLUME_FUZZ=ON: libFuzzer's coverage instrumentation in every target, which
+# changes no result), so that fuzzing costs no build of its own: the fuzz preset's
+# AddressSanitizer and UndefinedBehaviorSanitizer at -O1 made every compilation 4-5 times
+# longer (docs/performance.md, "CI time"), and the sanitizer stage above replays every
+# committed input under both.
 if command -v clang++ >/dev/null &&
-  configure_build clang-avx2 -DPLUME_TEST_TYPES=native -DPLUME_BUILD_BENCH=OFF; then
+  configure_build clang-avx2 -DPLUME_TEST_TYPES=native -DPLUME_BUILD_BENCH=OFF -DPLUME_FUZZ=ON; then
   step "clang (avx2): tests"
   ctest --test-dir build/ci-clang-avx2 --output-on-failure -j "$jobs" || failed+=("clang tests")
+  step "fuzzing: a fixed number of executions per target"
+  # From the committed corpus with a fixed seed (tools/fuzz.sh), two targets at a time. A
+  # failure leaves its input in build/ci-clang-avx2/artifacts/ (docs/fuzzing.md: what to do).
+  bash tools/fuzz.sh --build build/ci-clang-avx2 --jobs "$jobs" --runs "${PLUME_CI_FUZZ_RUNS:-10000}" ||
+    failed+=("fuzzing")
   prune build/ci-clang-avx2
 else
   failed+=("clang build")
 fi
-
-# Fuzzing is not a stage yet. Its fixed-count run (tools/fuzz.sh --runs 10000, the stage's
-# command) has found pre-existing bugs in every run so far (docs/fuzzing.md: 1 to 4 a round,
-# fixed as they come), and libFuzzer's runs are not fully repeatable, so the stage would fail
-# this command at random on bugs nobody's change made. It joins here, as
-# `bash tools/fuzz.sh --runs "${PLUME_CI_FUZZ_RUNS:-10000}" || failed+=("fuzzing")`, once
-# rounds come back clean. The sanitizer build above replays every fixed finding (the corpus).
 
 step "cross-build determinism"
 ref=""
