@@ -20,7 +20,10 @@
 //    shapes' centres, else +Y), oriented from A toward B; the points are where GJK found the
 //    cores meeting. Status `penetrating`.
 //  - The polytope is full or out of iterations: the best face found so far. Status
-//    `approximate` (the depth is a lower bound within the polytope's reach).
+//    `approximate` (the depth is a lower bound within the polytope's reach). With the origin
+//    still in front of that face (the polytope never covered it: a grazing contact on a
+//    nearly flat D), the depth is 0, and the points are where GJK found the cores meeting
+//    when the face's are farther apart than those.
 //  - Non-finite input: status `failed`, NaN depth.
 #pragma once
 
@@ -598,6 +601,16 @@ GPenetrationResult<S> penetration(A const& a, GIso3<S> const& pose_a, B const& b
       std::max(S(cfg.tolerance), S(16) * std::numeric_limits<S>::epsilon() * seed.scale);
   typename detail::epa_polytope<S>::face used;
   auto const [pa, pb] = detail::face_points(poly, diff, r.chosen, slack, used);
+  // With the origin in front of the face (d < 0) the depth reported is 0, and the points
+  // for depth 0 meet. The face's are about -d apart (more where a sliver's weights put them
+  // off its plane); GJK's, where it found the cores meeting, are its |v| apart (within its
+  // rounding floor). When the expansion stopped before the polytope covered the origin (D
+  // thin there, its faces slivers whose normals are set by rounding: d can be far below 0)
+  // and the face's points are farther apart than GJK's by more than `slack`, GJK's are
+  // reported, as for a flat D.
+  bool const in_front = S(0) > used.d;
+  if (in_front && (pa - pb).length() > (g.point_a - g.point_b).length() + slack)
+    return finish(S(0), used.n, g.point_a, g.point_b, r.status, r.iterations);
   return finish(std::max(used.d, S(0)), used.n, pa, pb, r.status, r.iterations);
 }
 
