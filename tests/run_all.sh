@@ -160,7 +160,7 @@ if command -v clang++ >/dev/null &&
   step "fuzzing: a fixed number of executions per target"
   # From the committed corpus with a fixed seed (tools/fuzz.sh), two targets at a time. A
   # failure leaves its input in build/ci-clang-avx2/artifacts/ (docs/fuzzing.md: what to do).
-  bash tools/fuzz.sh --build build/ci-clang-avx2 --jobs "$jobs" --runs "${PLUME_CI_FUZZ_RUNS:-10000}" ||
+  bash tools/fuzz.sh --build build/ci-clang-avx2 --jobs "$jobs" --runs "${PLUME_CI_FUZZ_RUNS:-20000}" ||
     failed+=("fuzzing")
   prune build/ci-clang-avx2
 else
