@@ -698,6 +698,14 @@ TEST_CASE("penetration: the origin on an edge or a vertex of the difference keep
   CHECK(bad == 0);
 }
 
+/// A manifold of one contact whose points are its separation x normal apart (within 1e-4).
+inline void check_one_point_along_normal(Manifold const& m) {
+  REQUIRE(m.count == 1);
+  CHECK(
+      ((m.points[0].point_b - m.points[0].point_a) - m.normal * m.points[0].separation).length() <=
+      1e-4f);
+}
+
 TEST_CASE("penetration: the origin projecting into a coplanar neighbour of a sliver face keeps "
           "the points depth x normal apart",
           "[collision][epa][fuzz]") {
@@ -724,11 +732,7 @@ TEST_CASE("penetration: the origin projecting into a coplanar neighbour of a sli
   REQUIRE(r.status == PenetrationStatus::penetrating);
   CHECK(r.depth == Approx(0.36564).margin(1e-4));
   CHECK(((r.point_b - r.point_a) + r.normal * r.depth).length() <= 1e-4f);
-  Manifold const m = contact_manifold(disc, pa, seg, pb);
-  REQUIRE(m.count == 1);
-  CHECK(
-      ((m.points[0].point_b - m.points[0].point_a) - m.normal * m.points[0].separation).length() <=
-      1e-4f);
+  check_one_point_along_normal(contact_manifold(disc, pa, seg, pb));
 
   // Discs and cylinders (half height 0, up to 0.5, up to 2) against segments through them,
   // at shared and random poses: the points depth x normal apart within the fuzz target's
@@ -815,11 +819,7 @@ TEST_CASE("penetration: an expansion that stops with the origin in front of its 
   REQUIRE(r.status == PenetrationStatus::approximate);
   CHECK(r.depth == 0);
   CHECK(((r.point_b - r.point_a) + r.normal * r.depth).length() <= 1e-4f);
-  Manifold const m = contact_manifold(seg, pose, hull, pose);
-  REQUIRE(m.count == 1);
-  CHECK(
-      ((m.points[0].point_b - m.points[0].point_a) - m.normal * m.points[0].separation).length() <=
-      1e-4f);
+  check_one_point_along_normal(contact_manifold(seg, pose, hull, pose));
 
   // Segments along an edge of a hull that is nearly a triangle (a vertex doubled 1e-4 off),
   // each end 1e-4 off the edge's line and up to 0.4 of its length beyond, at shared poses
